@@ -1,0 +1,22 @@
+// Motion-distortion removal (paper III.D.2, eq. 12): each point is moved into the sensor frame at the
+// reference time of its sweep by the linearly interpolated inter-scan motion.
+#pragma once
+
+#include <vector>
+
+#include "dloam/core/types.hpp"
+
+namespace dloam {
+
+/// Per-point time in [0, 1) of the sweep: the data's time channel when `use_channel` and present,
+/// else from the azimuth (the sweep starts at the rear and turns clockwise, see range_image.hpp).
+std::vector<double> point_times(const PointCloud& cloud, bool use_channel);
+
+/// `motion` is the sensor motion over one sweep (pose of the previous scan's reference time
+/// -> this scan's, T^{k-1 -> k} expressed in the sensor frame). A point measured at time t is
+/// mapped into the frame at `reference_time`: p' = linear(motion, t - reference_time) * p.
+/// Times are quantised into `bins` slices so the per-point cost is one matrix product.
+std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times, const Pose& motion,
+                         double reference_time = 0.5, int bins = 256);
+
+}  // namespace dloam

@@ -1,0 +1,164 @@
+#include "dloam/core/registration.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace dloam {
+
+namespace {
+
+using Mat36 = Eigen::Matrix<double, 3, 6>;
+using Vec6Row = Eigen::Matrix<double, 1, 6>;
+
+/// One linearised residual: contribution to J^T W J and J^T W r.
+struct Term {
+  Mat6 H = Mat6::Zero();
+  Vec6 g = Vec6::Zero();
+  double residual = -1.0;  ///< |r|, -1 when unmatched
+};
+
+/// d(exp(delta) q)/d(delta) at delta = 0 for the twist order [omega; v].
+Mat36 point_jacobian(const Vec3& q) {
+  Mat36 J;
+  J.leftCols<3>() = -hat(q);
+  J.rightCols<3>() = Eigen::Matrix3d::Identity();
+  return J;
+}
+
+double huber_weight(double r, double k) { return r <= k ? 1.0 : k / r; }
+
+/// Mean and covariance eigen-decomposition (ascending eigenvalues) of the neighbours.
+struct Neighbourhood {
+  Vec3 mean;
+  Eigen::Vector3d eigenvalues;
+  Eigen::Matrix3d eigenvectors;
+};
+
+bool neighbourhood(const KdTree& tree, const Vec3& q, const RegistrationParams& p, Neighbourhood& out) {
+  std::array<std::uint32_t, 16> idx{};
+  std::array<double, 16> d2{};
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(p.neighbours), idx.size());
+  const std::size_t found = tree.knn(q, k, idx.data(), d2.data());
+  if (found < k || d2[found - 1] > p.max_correspondence * p.max_correspondence) return false;
+  const auto& pts = tree.points();
+  Vec3 mean = Vec3::Zero();
+  for (std::size_t i = 0; i < found; ++i) mean += pts[idx[i]];
+  mean /= static_cast<double>(found);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < found; ++i) {
+    const Vec3 d = pts[idx[i]] - mean;
+    cov += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov / static_cast<double>(found));
+  out = {mean, es.eigenvalues(), es.eigenvectors()};
+  return true;
+}
+
+Term edge_term(const Vec3& q, double w, const KdTree& tree, const RegistrationParams& p) {
+  Term t;
+  Neighbourhood n;
+  if (!neighbourhood(tree, q, p, n)) return t;
+  if (n.eigenvalues(2) < 3.0 * n.eigenvalues(1)) return t;  // neighbours do not form a line
+  const Vec3 d = n.eigenvectors.col(2);
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - d * d.transpose();
+  const Vec3 r = P * (q - n.mean);
+  const Mat36 J = P * point_jacobian(q);
+  t.residual = r.norm();
+  const double ww = w * huber_weight(t.residual, p.huber);
+  t.H = ww * J.transpose() * J;
+  t.g = ww * J.transpose() * r;
+  return t;
+}
+
+Term plane_term(const Vec3& q, double w, const KdTree& tree, const RegistrationParams& p) {
+  Term t;
+  Neighbourhood n;
+  if (!neighbourhood(tree, q, p, n)) return t;
+  // A plane: the smallest spread is small both absolutely and relative to the others.
+  if (n.eigenvalues(0) > 0.01 || n.eigenvalues(0) > 0.1 * n.eigenvalues(1)) return t;
+  const Vec3 normal = n.eigenvectors.col(0);
+  const double r = normal.dot(q - n.mean);
+  const Vec6Row J = normal.transpose() * point_jacobian(q);
+  t.residual = std::abs(r);
+  const double ww = w * huber_weight(t.residual, p.huber);
+  t.H = ww * J.transpose() * J;
+  t.g = ww * J.transpose() * r;
+  return t;
+}
+
+}  // namespace
+
+RegistrationResult register_features(const FeatureSource& src, const FeatureMap& target, const Pose& initial,
+                                     const RegistrationParams& params) {
+  RegistrationResult res;
+  res.T = initial;
+  const std::size_t ne = src.edges.size();
+  const std::size_t n = ne + src.planes.size();
+  std::vector<Term> terms(n);
+  std::vector<int> free;
+  for (int i = 0; i < 6; ++i)
+    if (params.dof[static_cast<std::size_t>(i)]) free.push_back(i);
+  const auto nf = static_cast<Eigen::Index>(free.size());
+
+  for (int it = 0; it < params.max_iterations; ++it) {
+    res.iterations = it + 1;
+    const Pose T = res.T;
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      if (i < ne) {
+        const double w = src.edge_weights.empty() ? 1.0 : src.edge_weights[i];
+        terms[i] = w > 0.0 ? edge_term(T * src.edges[i], w, target.edges, params) : Term{};
+      } else {
+        const std::size_t j = i - ne;
+        const double w = src.plane_weights.empty() ? 1.0 : src.plane_weights[j];
+        terms[i] = w > 0.0 ? plane_term(T * src.planes[j], w, target.planes, params) : Term{};
+      }
+    });
+    // Sequential sum: the result does not depend on the thread schedule.
+    Mat6 H = Mat6::Zero();
+    Vec6 g = Vec6::Zero();
+    res.edge_matches = res.plane_matches = 0;
+    double sum_r = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (terms[i].residual < 0.0) continue;
+      H += terms[i].H;
+      g += terms[i].g;
+      sum_r += terms[i].residual;
+      (i < ne ? res.edge_matches : res.plane_matches)++;
+    }
+    const int matches = res.edge_matches + res.plane_matches;
+    res.mean_residual = matches > 0 ? sum_r / matches : 0.0;
+    if (matches < 10) break;
+
+    Eigen::MatrixXd Hs(nf, nf);
+    Eigen::VectorXd gs(nf);
+    for (Eigen::Index a = 0; a < nf; ++a) {
+      gs(a) = g(free[static_cast<std::size_t>(a)]);
+      for (Eigen::Index b = 0; b < nf; ++b) Hs(a, b) = H(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
+    }
+    // Solve in the eigenbasis and leave out directions the geometry does not constrain (LOAM).
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs);
+    Eigen::VectorXd proj = es.eigenvectors().transpose() * gs;
+    res.degenerate = false;
+    for (Eigen::Index a = 0; a < nf; ++a) {
+      if (es.eigenvalues()(a) < params.degeneracy_eigenvalue) {
+        proj(a) = 0.0;
+        res.degenerate = true;
+      } else {
+        proj(a) /= es.eigenvalues()(a);
+      }
+    }
+    const Eigen::VectorXd ds = -(es.eigenvectors() * proj);
+    Vec6 delta = Vec6::Zero();
+    for (Eigen::Index a = 0; a < nf; ++a) delta(free[static_cast<std::size_t>(a)]) = ds(a);
+    res.T = normalized(exp_se3(delta) * res.T);
+    if (delta.head<3>().norm() < params.convergence_rotation && delta.tail<3>().norm() < params.convergence_translation)
+      break;
+  }
+  res.residuals.resize(n);
+  for (std::size_t i = 0; i < n; ++i) res.residuals[i] = terms[i].residual;
+  return res;
+}
+
+}  // namespace dloam

@@ -1,0 +1,61 @@
+// Feature registration by Levenberg-Marquardt / Gauss-Newton: point-to-line residuals for edge
+// features and point-to-plane residuals for plane features (LOAM / LeGO-LOAM, paper III.F-G),
+// with a subset of the six degrees of freedom free (the two-step LM of the odometry),
+// per-feature weights (distance weights and eq. 15 compensation), a robust kernel, and LOAM's
+// degeneracy handling (no update along directions the geometry does not constrain).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "dloam/core/kdtree.hpp"
+#include "dloam/core/se3.hpp"
+
+namespace dloam {
+
+/// Target features in one frame, with their search trees.
+struct FeatureMap {
+  KdTree edges;
+  KdTree planes;
+};
+
+/// Source features (in the source frame) with optional per-feature weights (empty = 1).
+struct FeatureSource {
+  std::vector<Vec3> edges;
+  std::vector<Vec3> planes;
+  std::vector<double> edge_weights;
+  std::vector<double> plane_weights;
+};
+
+/// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order).
+using DofMask = std::array<bool, 6>;
+inline constexpr DofMask kAllDof = {true, true, true, true, true, true};
+inline constexpr DofMask kPlaneStepDof = {true, true, false, false, false, true};  ///< roll, pitch, tz
+inline constexpr DofMask kEdgeStepDof = {false, false, true, true, true, false};   ///< yaw, tx, ty
+
+struct RegistrationParams {
+  int max_iterations = 20;
+  double max_correspondence = 1.0;  ///< m: neighbours farther than this give no residual
+  int neighbours = 5;
+  double huber = 0.1;               ///< m: robust kernel width
+  double degeneracy_eigenvalue = 50.0;  ///< eigenvalues of J^T J below this are not updated
+  double convergence_rotation = 1e-5;    ///< rad
+  double convergence_translation = 1e-4; ///< m
+  DofMask dof = kAllDof;
+};
+
+struct RegistrationResult {
+  Pose T = Pose::Identity();  ///< source -> target
+  int iterations = 0;
+  int edge_matches = 0;
+  int plane_matches = 0;
+  double mean_residual = 0.0;  ///< m, over matched features at the last iteration
+  bool degenerate = false;
+  /// Per-feature absolute residual of the last iteration (-1 when unmatched), edges then planes.
+  std::vector<double> residuals;
+};
+
+RegistrationResult register_features(const FeatureSource& src, const FeatureMap& target, const Pose& initial,
+                                     const RegistrationParams& params);
+
+}  // namespace dloam

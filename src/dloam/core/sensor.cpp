@@ -1,0 +1,132 @@
+#include "dloam/core/sensor.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <stdexcept>
+
+namespace dloam {
+
+double SensorConfig::beam_elevation_deg(int row) const {
+  if (!beam_elevations_deg.empty()) return beam_elevations_deg[static_cast<std::size_t>(row)];
+  if (N_scan <= 1) return Pit_bottom;
+  return Pit_bottom + (fov_top - Pit_bottom) * row / (N_scan - 1);
+}
+
+int SensorConfig::row_of_elevation(double e) const {
+  if (N_scan <= 1) return 0;
+  if (beam_elevations_deg.empty()) {
+    const double R_vert = (fov_top - Pit_bottom) / (N_scan - 1);
+    const double v = std::round((e - Pit_bottom) / R_vert);  // paper eq. 4
+    if (v < -0.5 || v > N_scan - 0.5 || std::isnan(v)) return -1;
+    return std::clamp(static_cast<int>(v), 0, N_scan - 1);
+  }
+  const auto& b = beam_elevations_deg;
+  auto it = std::lower_bound(b.begin(), b.end(), e);
+  int hi = static_cast<int>(it - b.begin());
+  int row;
+  if (hi == 0) {
+    row = 0;
+  } else if (hi == N_scan) {
+    row = N_scan - 1;
+  } else {
+    row = (e - b[static_cast<std::size_t>(hi - 1)] < b[static_cast<std::size_t>(hi)] - e) ? hi - 1 : hi;
+  }
+  // Outside the field of view by more than half the local spacing.
+  const double spacing_lo = b[1] - b[0];
+  const double spacing_hi = b[b.size() - 1] - b[b.size() - 2];
+  if (e < b.front() - 0.5 * spacing_lo || e > b.back() + 0.5 * spacing_hi) return -1;
+  return row;
+}
+
+void SensorConfig::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("sensor: " + what); };
+  if (N_scan < 2 || N_scan > 512) fail("N_scan must be in [2, 512], got " + std::to_string(N_scan));
+  if (Horizon_SCAN < 16 || Horizon_SCAN > 16384)
+    fail("Horizon_SCAN must be in [16, 16384], got " + std::to_string(Horizon_SCAN));
+  if (!beam_elevations_deg.empty()) {
+    if (static_cast<int>(beam_elevations_deg.size()) != N_scan)
+      fail("beam_elevations_deg has " + std::to_string(beam_elevations_deg.size()) +
+           " entries but N_scan is " + std::to_string(N_scan));
+    if (!std::is_sorted(beam_elevations_deg.begin(), beam_elevations_deg.end()) ||
+        std::adjacent_find(beam_elevations_deg.begin(), beam_elevations_deg.end()) !=
+            beam_elevations_deg.end())
+      fail("beam_elevations_deg must be strictly increasing (bottom beam first)");
+  } else if (!(fov_top > Pit_bottom)) {
+    fail("fov_top must be above Pit_bottom");
+  }
+  if (!(min_range >= 0.0) || !(max_range > min_range)) fail("need 0 <= min_range < max_range");
+  if (!(scan_rate_hz > 0.0)) fail("scan_rate_hz must be positive");
+}
+
+namespace {
+std::vector<double> uniform(double lo, double hi, int n) {
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = lo + (hi - lo) * i / (n - 1);
+  return v;
+}
+std::string upper(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+}  // namespace
+
+std::vector<std::string> sensor_preset_names() { return {"HDL-64E", "HDL-32E", "VLP-16", "OS1-64", "OS1-128"}; }
+
+SensorConfig sensor_preset(const std::string& name) {
+  SensorConfig s;
+  const std::string n = upper(name);
+  if (n == "HDL-64E") {
+    // Two laser blocks: upper 32 beams +2.0 .. -8.33 deg, lower 32 beams -8.83 .. -24.9 deg.
+    auto lower = uniform(-24.9, -8.83, 32);
+    auto upper_block = uniform(-8.33, 2.0, 32);
+    lower.insert(lower.end(), upper_block.begin(), upper_block.end());
+    s.preset = "HDL-64E";
+    s.N_scan = 64;
+    s.Horizon_SCAN = 2048;
+    s.beam_elevations_deg = lower;
+    s.Pit_bottom = -24.9;
+    s.fov_top = 2.0;
+    s.min_range = 2.5;
+    s.max_range = 120.0;
+  } else if (n == "HDL-32E") {
+    s.preset = "HDL-32E";
+    s.N_scan = 32;
+    s.Horizon_SCAN = 1800;
+    s.Pit_bottom = -30.67;
+    s.fov_top = 10.67;
+    s.min_range = 1.0;
+    s.max_range = 100.0;
+  } else if (n == "VLP-16") {
+    s.preset = "VLP-16";
+    s.N_scan = 16;
+    s.Horizon_SCAN = 1800;
+    s.Pit_bottom = -15.0;
+    s.fov_top = 15.0;
+    s.min_range = 1.0;
+    s.max_range = 100.0;
+  } else if (n == "OS1-64") {
+    s.preset = "OS1-64";
+    s.N_scan = 64;
+    s.Horizon_SCAN = 1024;
+    s.Pit_bottom = -16.6;
+    s.fov_top = 16.6;
+    s.min_range = 1.0;
+    s.max_range = 120.0;
+  } else if (n == "OS1-128") {
+    s.preset = "OS1-128";
+    s.N_scan = 128;
+    s.Horizon_SCAN = 1024;
+    s.Pit_bottom = -22.5;
+    s.fov_top = 22.5;
+    s.min_range = 1.0;
+    s.max_range = 120.0;
+  } else {
+    std::string known;
+    for (const auto& p : sensor_preset_names()) known += (known.empty() ? "" : ", ") + p;
+    throw std::invalid_argument("unknown sensor preset '" + name + "' (known: " + known + ")");
+  }
+  return s;
+}
+
+}  // namespace dloam

@@ -1,0 +1,93 @@
+// KITTI odometry / SemanticKITTI sequence folders: velodyne/*.bin, labels/*.label,
+// poses.txt, calib.txt (Tr), times.txt. Every reader throws dloam::InputError with the file's
+// name and the problem; every writer writes atomically (temp file + rename), so an
+// interrupted run never leaves a half-written file.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dloam/core/types.hpp"
+
+namespace dloam::io {
+
+/// float32 x y z intensity per point. Rejects: missing file, size not a multiple of 16,
+/// empty scan, NaN/Inf coordinates.
+PointCloud read_kitti_bin(const std::string& path);
+void write_kitti_bin(const std::string& path, const PointCloud& cloud);
+
+/// uint32 per point; `expected_points` must match the scan's point count.
+std::vector<Label> read_labels(const std::string& path, std::size_t expected_points);
+void write_labels(const std::string& path, const std::vector<Label>& labels);
+
+/// calib.txt: `KEY: v1 v2 ...` lines; Tr (velodyne -> camera 0) as 12 row-major values.
+struct Calib {
+  Pose Tr = Pose::Identity();
+  bool has_Tr = false;
+  std::vector<std::pair<std::string, std::vector<double>>> entries;  ///< every line, in order
+};
+Calib read_calib(const std::string& path);
+void write_calib(const std::string& path, const Calib& calib);
+
+/// KITTI poses: one 3x4 row-major matrix per line.
+std::vector<Pose> read_kitti_poses(const std::string& path);
+void write_kitti_poses(const std::string& path, const std::vector<Pose>& poses);
+
+/// TUM poses: `t tx ty tz qx qy qz qw` per line.
+struct StampedPose {
+  double t = 0.0;
+  Pose pose = Pose::Identity();
+};
+std::vector<StampedPose> read_tum_poses(const std::string& path);
+void write_tum_poses(const std::string& path, const std::vector<StampedPose>& poses);
+
+/// times.txt: one time in seconds per line.
+std::vector<double> read_times(const std::string& path);
+void write_times(const std::string& path, const std::vector<double>& times);
+
+/// KITTI poses live in the camera-0 frame. Sensor-frame pose = Tr^-1 * P * Tr.
+std::vector<Pose> camera_to_lidar(const std::vector<Pose>& camera_poses, const Pose& Tr);
+std::vector<Pose> lidar_to_camera(const std::vector<Pose>& lidar_poses, const Pose& Tr);
+
+/// A sequence folder. open_sequence() lists the files and checks that counts agree
+/// (poses, times, labels vs scans); scans are read lazily with read_scan().
+struct Sequence {
+  std::string dir;
+  std::vector<std::string> scan_files;   ///< velodyne/NNNNNN.bin, sorted
+  std::vector<std::string> label_files;  ///< labels/NNNNNN.label, empty when absent
+  std::optional<Calib> calib;
+  std::vector<Pose> poses;    ///< poses.txt as stored (camera frame when calib has Tr), or empty
+  std::vector<double> times;  ///< times.txt, or empty
+
+  [[nodiscard]] std::size_t size() const { return scan_files.size(); }
+  [[nodiscard]] bool has_labels() const { return !label_files.empty(); }
+  [[nodiscard]] bool has_poses() const { return !poses.empty(); }
+  /// Ground-truth poses of the LiDAR (Tr applied when calib has Tr).
+  [[nodiscard]] std::vector<Pose> lidar_poses() const;
+  [[nodiscard]] PointCloud read_scan(std::size_t i) const;
+  [[nodiscard]] std::vector<Label> read_scan_labels(std::size_t i, std::size_t n_points) const;
+};
+/// Lists a sequence folder and checks that counts and names agree (poses, times, labels vs
+/// scans); reads the small text files. Scans are KITTI .bin in velodyne/, or PCD files in
+/// velodyne/ or directly in `dir`.
+Sequence open_sequence(const std::string& dir);
+
+/// The files of a sequence folder, listed but not read (paths empty when absent). Throws when
+/// `dir` is missing or holds no scans. Used by open_sequence() and `dloam check`.
+struct SequenceFiles {
+  std::string dir;
+  std::vector<std::string> scan_files;   ///< velodyne/*.bin, else velodyne/*.pcd, else *.pcd; sorted
+  std::vector<std::string> label_files;  ///< labels/*.label, sorted; empty when labels/ is absent
+  bool has_label_dir = false;
+  std::string calib_file, poses_file, times_file;
+};
+SequenceFiles list_sequence_files(const std::string& dir);
+
+/// Reads one scan by extension: .bin (KITTI) or .pcd.
+PointCloud read_scan_file(const std::string& path);
+
+/// Path helpers: "<dir>/velodyne/000042.bin" etc.
+std::string scan_name(std::size_t index);  ///< "000042"
+
+}  // namespace dloam::io

@@ -1,0 +1,71 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "dloam/core/range_image.hpp"
+
+using namespace dloam;
+
+namespace {
+Vec3 dir(double az_deg, double el_deg, double r) {
+  const double a = az_deg * M_PI / 180.0, e = el_deg * M_PI / 180.0;
+  return {r * std::cos(e) * std::cos(a), r * std::cos(e) * std::sin(a), r * std::sin(e)};
+}
+}  // namespace
+
+TEST(Sensor, PresetsValidateAndHaveTheirBeamCounts) {
+  const std::pair<const char*, int> expected[] = {
+      {"HDL-64E", 64}, {"HDL-32E", 32}, {"VLP-16", 16}, {"OS1-64", 64}, {"OS1-128", 128}};
+  for (const auto& [name, rows] : expected) {
+    const auto s = sensor_preset(name);
+    EXPECT_NO_THROW(s.validate()) << name;
+    EXPECT_EQ(s.N_scan, rows) << name;
+    EXPECT_NEAR(s.beam_elevation_deg(0), s.Pit_bottom, 1e-9) << name;
+    EXPECT_NEAR(s.beam_elevation_deg(rows - 1), s.fov_top, 1e-9) << name;
+  }
+  EXPECT_THROW(sensor_preset("HDL-65"), std::invalid_argument);
+}
+
+TEST(Sensor, NearestBeamRowAndOutsideFov) {
+  const auto s = sensor_preset("VLP-16");  // -15..15 every 2 deg
+  EXPECT_EQ(s.row_of_elevation(-15.0), 0);
+  EXPECT_EQ(s.row_of_elevation(-13.2), 1);
+  EXPECT_EQ(s.row_of_elevation(15.0), 15);
+  EXPECT_EQ(s.row_of_elevation(17.0), -1);
+  EXPECT_EQ(s.row_of_elevation(-16.5), -1);
+  const auto h = sensor_preset("HDL-64E");
+  EXPECT_EQ(h.row_of_elevation(-24.9), 0);
+  EXPECT_EQ(h.row_of_elevation(2.0), 63);
+  EXPECT_EQ(h.row_of_elevation(-8.5), 31);  // nearer -8.83 than -8.33? -8.5 is 0.33 from -8.83, 0.17 from -8.33
+}
+
+TEST(RangeImage, ColumnsFollowTheSweepFromTheRearClockwise) {
+  const int cols = 360;
+  EXPECT_EQ(azimuth_column(-1.0, -1e-9, cols), 0);   // rear, just clockwise of it
+  EXPECT_EQ(azimuth_column(0.0, 1.0, cols), 90);     // left (+y) comes a quarter turn later
+  EXPECT_EQ(azimuth_column(1.0, 0.0, cols), 180);    // front at mid-sweep
+  EXPECT_EQ(azimuth_column(0.0, -1.0, cols), 270);   // right
+  EXPECT_NEAR(azimuth_time(1.0, 0.0), 0.5, 1e-12);
+}
+
+TEST(RangeImage, KeepsNearestPointPerPixelAndMapsBothWays) {
+  SensorConfig s = sensor_preset("VLP-16");
+  s.Horizon_SCAN = 360;
+  std::vector<Vec3> pts = {dir(10.2, 1.0, 10.0), dir(10.3, 1.1, 5.0), dir(-40.0, -15.0, 20.0),
+                           dir(0.0, 30.0, 10.0), dir(5.0, 0.0, 0.5), dir(5.0, 0.0, 500.0)};
+  const RangeImage img = project(pts, s);
+  ASSERT_EQ(img.rows, 16);
+  // Points 0 and 1 share a pixel; the nearer (1) wins, both keep their row/col.
+  EXPECT_EQ(img.pixel_of_point(0), img.pixel_of_point(1));
+  EXPECT_EQ(img.point_of_pixel[static_cast<std::size_t>(img.pixel_of_point(0))], 1);
+  EXPECT_FLOAT_EQ(img.range[static_cast<std::size_t>(img.pixel_of_point(0))], 5.0f);
+  EXPECT_EQ(img.row_of_point[2], 0);
+  EXPECT_EQ(img.point_of_pixel[static_cast<std::size_t>(img.pixel_of_point(2))], 2);
+  // Outside vertical FOV, too near, too far: no pixel.
+  EXPECT_EQ(img.pixel_of_point(3), -1);
+  EXPECT_EQ(img.pixel_of_point(4), -1);
+  EXPECT_EQ(img.pixel_of_point(5), -1);
+  int filled = 0;
+  for (int p : img.point_of_pixel) filled += p >= 0;
+  EXPECT_EQ(filled, 2);
+}
