@@ -1,0 +1,232 @@
+// `dloam eval odometry|mos`: reads trajectories or label folders, runs the evaluators of
+// src/dloam/eval (KITTI devkit relative error, ATE, RPE; SemanticKITTI MOS IoU and the paper's
+// object-level IoU, eq. 16), prints a table and optionally writes JSON and a gnuplot PNG.
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "dloam/eval/mos_metrics.hpp"
+#include "dloam/eval/odometry_metrics.hpp"
+#include "dloam/eval/plot.hpp"
+#include "dloam/io/atomic_file.hpp"
+#include "dloam/io/kitti.hpp"
+#include "report.hpp"
+
+namespace dloam::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct OdometryArgs {
+  std::string gt, est, calib, format = "kitti", json_path, plot_path;
+  std::vector<double> lengths;
+  std::size_t step = 10;
+};
+
+struct MosArgs {
+  std::string gt_dir, pred_dir, json_path;
+  double object_threshold = 0.5;
+};
+
+std::vector<Pose> read_trajectory(const std::string& path, const std::string& format) {
+  std::vector<Pose> poses;
+  if (format == "tum") {
+    for (const auto& stamped : io::read_tum_poses(path)) poses.push_back(stamped.pose);
+  } else {
+    poses = io::read_kitti_poses(path);
+  }
+  if (poses.empty()) throw InputError(path + ": no poses");
+  return poses;
+}
+
+void write_json(const std::string& path, const json& doc) {
+  io::write_atomic(path, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
+  fmt::print("wrote {}\n", path);
+}
+
+void write_plot(const std::string& png_path, const std::vector<Pose>& gt, const std::vector<Pose>& est,
+                const eval::OdometryResult& result, bool top_view_is_xz) {
+  if (std::system("gnuplot --version > /dev/null 2>&1") != 0) {
+    throw InputError("--plot " + png_path +
+                     ": the `gnuplot` program was not found (apt install gnuplot-nox)");
+  }
+  eval::PlotOptions options;
+  options.png_path = png_path + ".tmp";
+  options.terminal =
+      std::system("gnuplot -e 'set terminal pngcairo' > /dev/null 2>&1") == 0 ? "pngcairo" : "png";
+  options.vertical_axis = top_view_is_xz ? 2 : 1;
+  options.title =
+      result.relative.segments.empty()
+          ? fmt::format("no segment   ATE {:.3f} m (aligned {:.3f} m)", result.ate.rmse,
+                        result.ate_aligned.rmse)
+          : fmt::format("t_rel {:.3f} %   r_rel {:.4f} deg/100 m   ATE {:.3f} m (aligned {:.3f} m)",
+                        result.relative.t_rel_pct, result.relative.r_rel_deg100m, result.ate.rmse,
+                        result.ate_aligned.rmse);
+  const fs::path out(png_path);
+  if (out.has_parent_path()) fs::create_directories(out.parent_path());
+  const fs::path script = fs::temp_directory_path() / fmt::format("dloam-eval-plot-{}.gp", ::getpid());
+  io::write_atomic(script.string(), [&](std::ostream& s) {
+    s << eval::odometry_plot_script(gt, est, result.relative.per_length, options);
+  });
+  const int status = std::system(fmt::format("gnuplot '{}' 2>&1", script.string()).c_str());
+  fs::remove(script);
+  if (status != 0 || !fs::exists(options.png_path)) {
+    fs::remove(options.png_path);
+    throw InputError("--plot " + png_path + ": gnuplot failed (exit status " + std::to_string(status) + ")");
+  }
+  fs::rename(options.png_path, png_path);
+  fmt::print("wrote {}\n", png_path);
+}
+
+void run_odometry(const OdometryArgs& args, bool lengths_given, bool step_given) {
+  std::vector<Pose> gt = read_trajectory(args.gt, args.format);
+  std::vector<Pose> est = read_trajectory(args.est, args.format);
+  if (gt.size() != est.size()) {
+    throw InputError(fmt::format("ground truth {} has {} poses but estimate {} has {}", args.gt, gt.size(),
+                                 args.est, est.size()));
+  }
+  if (!args.calib.empty()) {
+    const io::Calib calib = io::read_calib(args.calib);
+    if (!calib.has_Tr) throw InputError(args.calib + ": no Tr entry (velodyne -> camera 0)");
+    gt = io::camera_to_lidar(gt, calib.Tr);
+    est = io::camera_to_lidar(est, calib.Tr);
+  }
+  eval::SegmentOptions options;
+  if (lengths_given) options.lengths = args.lengths;
+  options.step = step_given ? args.step : (lengths_given ? 1 : 10);
+  const eval::OdometryResult r = eval::evaluate_odometry(gt, est, options);
+
+  const std::string frame = args.calib.empty() ? "as given" : "lidar (Tr^-1 P Tr)";
+  print_odometry(r, frame);
+  if (!args.json_path.empty()) {
+    json doc = odometry_json(r, options, frame);
+    doc["gt"] = args.gt;
+    doc["estimate"] = args.est;
+    write_json(args.json_path, doc);
+  }
+  // KITTI camera frame (no calib): y points down, so the top view is x-z; LiDAR/TUM: x-y.
+  if (!args.plot_path.empty())
+    write_plot(args.plot_path, gt, est, r, args.calib.empty() && args.format == "kitti");
+}
+
+std::vector<std::string> label_files(const std::string& dir) {
+  if (!fs::is_directory(dir)) throw InputError(dir + ": not a folder");
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".label")
+      files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError(dir + ": no .label files");
+  return files;
+}
+
+void run_mos(const MosArgs& args) {
+  if (!fs::is_directory(args.pred_dir)) throw InputError(args.pred_dir + ": not a folder");
+  eval::MosResult r;
+  for (const std::string& gt_file : label_files(args.gt_dir)) {
+    const fs::path pred_file = fs::path(args.pred_dir) / fs::path(gt_file).filename();
+    if (!fs::exists(pred_file)) {
+      throw InputError(
+          fmt::format("{}: missing prediction for ground truth {}", pred_file.string(), gt_file));
+    }
+    const auto gt = io::read_labels(gt_file, fs::file_size(gt_file) / sizeof(Label));
+    const auto pred = io::read_labels(pred_file.string(), gt.size());
+    eval::add_scan(r, gt, pred, args.object_threshold);
+  }
+  const auto& p = r.points;
+  const auto& o = r.objects;
+  fmt::print("MOS: {} scans, {} points ({} ignored: ground truth unlabeled/outlier)\n", r.scans,
+             p.tp + p.fp + p.fn + p.tn + p.ignored, p.ignored);
+  fmt::print("  points   IoU {:.4f}  precision {:.4f}  recall {:.4f}  static IoU {:.4f}\n", p.iou(),
+             p.precision(), p.recall(), p.static_iou());
+  fmt::print("           TP {}  FP {}  FN {}  TN {}\n", p.tp, p.fp, p.fn, p.tn);
+  fmt::print("  objects  IoU {:.4f}  TP {}  FP {}  FN {}  (detected: > {:g} % of points predicted moving)\n",
+             o.iou(), o.tp, o.fp, o.fn, 100.0 * args.object_threshold);
+  if (!args.json_path.empty()) {
+    write_json(args.json_path, {{"gt_dir", args.gt_dir},
+                                {"pred_dir", args.pred_dir},
+                                {"scans", r.scans},
+                                {"iou", p.iou()},
+                                {"precision", p.precision()},
+                                {"recall", p.recall()},
+                                {"static_iou", p.static_iou()},
+                                {"tp", p.tp},
+                                {"fp", p.fp},
+                                {"fn", p.fn},
+                                {"tn", p.tn},
+                                {"ignored", p.ignored},
+                                {"object_iou", o.iou()},
+                                {"object_tp", o.tp},
+                                {"object_fp", o.fp},
+                                {"object_fn", o.fn},
+                                {"object_threshold", args.object_threshold}});
+  }
+}
+
+}  // namespace
+
+void register_eval(CLI::App& app) {
+  auto* cmd =
+      app.add_subcommand("eval", "Evaluate odometry (KITTI devkit, ATE, RPE) or moving-object segmentation");
+  cmd->require_subcommand(1);
+  cmd->footer(
+      "Examples:\n"
+      "  dloam eval odometry GT/poses.txt out/poses.txt --calib GT/calib.txt --lengths 5,10,20,30\n"
+      "  dloam eval odometry GT/poses.txt out/poses.txt --json odo.json --plot odo.png\n"
+      "  dloam eval mos GT/labels out/labels --json mos.json --object-threshold 0.5\n"
+      "Without --lengths: the KITTI devkit protocol, 100,200,...,800 m segments from every 10th frame.");
+
+  auto odo = std::make_shared<OdometryArgs>();
+  auto* o = cmd->add_subcommand("odometry",
+                                "KITTI devkit relative error, ATE (raw and SE(3)-aligned), per-frame RPE");
+  o->add_option("GT_POSES", odo->gt, "ground-truth poses")->required()->check(CLI::ExistingFile);
+  o->add_option("EST_POSES", odo->est, "estimated poses, one per ground-truth pose")
+      ->required()
+      ->check(CLI::ExistingFile);
+  o->add_option("--calib", odo->calib,
+                "KITTI calib.txt: evaluate in the LiDAR frame, Tr^-1 P Tr (default: as given)")
+      ->check(CLI::ExistingFile);
+  auto* lengths = o->add_option("--lengths", odo->lengths, "segment lengths in metres (default 100,...,800)")
+                      ->delimiter(',');
+  auto* step =
+      o->add_option("--step", odo->step, "a segment starts every N frames (default 10; 1 with --lengths)")
+          ->check(CLI::Range(1, 1000000));
+  o->add_option("--format", odo->format,
+                "pose file format of both files (tum: poses are matched by line, times are not used)")
+      ->check(CLI::IsMember({"kitti", "tum"}))
+      ->capture_default_str();
+  o->add_option("--json", odo->json_path, "write the results as JSON");
+  o->add_option("--plot", odo->plot_path, "write a PNG (gnuplot): top view of both paths, errors per length");
+  o->callback([odo, lengths, step] { run_odometry(*odo, lengths->count() > 0, step->count() > 0); });
+
+  auto mos = std::make_shared<MosArgs>();
+  auto* m = cmd->add_subcommand(
+      "mos", "SemanticKITTI moving-object IoU over all points + object-level IoU (eq. 16)");
+  m->add_option("GT_LABEL_DIR", mos->gt_dir, "folder of ground-truth NNNNNN.label files")->required();
+  m->add_option("PRED_LABEL_DIR", mos->pred_dir, "folder with a predicted .label file for each one")
+      ->required();
+  m->add_option("--json", mos->json_path, "write the results as JSON");
+  m->add_option("--object-threshold", mos->object_threshold,
+                "an object is detected when more than this fraction of its points is predicted moving")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            const bool ok = end != text.c_str() && *end == '\0' && v >= 0.0 && v < 1.0;
+            return ok ? std::string() : "must be a number in [0, 1), got " + text;
+          },
+          "in [0,1)"))
+      ->capture_default_str();
+  m->callback([mos] { run_mos(*mos); });
+}
+
+}  // namespace dloam::app
