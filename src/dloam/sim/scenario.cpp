@@ -1,0 +1,128 @@
+// Scenario parameters, dispatch, and the two city scenarios (urban street, loop around blocks).
+#include "dloam/sim/scenario.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "dloam/sim/city.hpp"
+
+namespace dloam::sim {
+
+ScenarioKind parse_scenario_kind(const std::string& name) {
+  std::string n = name;
+  for (auto& c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (n == "urban") return ScenarioKind::Urban;
+  if (n == "highway") return ScenarioKind::Highway;
+  if (n == "loop") return ScenarioKind::Loop;
+  throw std::invalid_argument("unknown scenario '" + name + "' (known: urban, highway, loop)");
+}
+
+std::string to_string(ScenarioKind kind) {
+  switch (kind) {
+    case ScenarioKind::Urban:
+      return "urban";
+    case ScenarioKind::Highway:
+      return "highway";
+    case ScenarioKind::Loop:
+      return "loop";
+  }
+  return "unknown";
+}
+
+double default_ego_speed(ScenarioKind kind) {
+  switch (kind) {
+    case ScenarioKind::Urban:
+      return 7.0;
+    case ScenarioKind::Highway:
+      return 25.0;
+    case ScenarioKind::Loop:
+      return 9.0;
+  }
+  return 7.0;
+}
+
+double ScenarioParams::speed() const { return ego_speed > 0.0 ? ego_speed : default_ego_speed(kind); }
+
+void ScenarioParams::validate() const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("scenario: " + what); };
+  if (frames < 1 || frames > 20000) fail("frames must be in [1, 20000], got " + std::to_string(frames));
+  if (!(density >= 0.0 && density <= 5.0)) fail("density must be in [0, 5]");
+  if (!(traffic >= 0.0 && traffic <= 10.0)) fail("traffic must be in [0, 10]");
+  if (!(ego_speed >= 0.0 && ego_speed <= 50.0)) fail("ego speed must be in [0, 50] m/s (0: default)");
+  if (!(hills <= 20.0)) fail("hills must be at most 20 m");
+  if (!(max_range > 0.0 && max_range <= 500.0)) fail("max range must be in (0, 500] m");
+  // The urban street and the highway are built along the whole drive; the loop is driven in laps.
+  const double drive_km = speed() * frames * 0.1 / 1000.0;
+  const double max_km = kind == ScenarioKind::Urban ? 5.0 : kind == ScenarioKind::Highway ? 50.0 : 1e9;
+  if (drive_km > max_km) {
+    char msg[160];
+    std::snprintf(msg, sizeof(msg),
+                  "%s drive of %.1f km is longer than %.0f km (fewer frames, lower speed, or loop)",
+                  to_string(kind).c_str(), drive_km, max_km);
+    fail(msg);
+  }
+}
+
+World make_world(const ScenarioParams& params) {
+  params.validate();
+  switch (params.kind) {
+    case ScenarioKind::Urban:
+      return detail::make_city_world(params, false);
+    case ScenarioKind::Loop:
+      return detail::make_city_world(params, true);
+    case ScenarioKind::Highway:
+      return detail::make_highway_world(params);
+  }
+  throw std::invalid_argument("unknown scenario kind");
+}
+
+namespace detail {
+
+World make_city_world(const ScenarioParams& params, bool loop) {
+  Rng static_rng(stream_seed(params.seed, 1, 0)), traffic_rng(stream_seed(params.seed, 2, 0));
+  World w;
+  w.scenario = to_string(params.kind);
+  w.ground.amplitude = params.hills >= 0.0 ? params.hills : 2.0;
+  w.ground.wavelength = 420.0;
+  w.ground.phase_x = uniform(static_rng, 0.0, 2.0 * M_PI);
+  w.ground.phase_y = uniform(static_rng, 0.0, 2.0 * M_PI);
+  const double v = params.speed();
+  const double duration = params.frames * w.frame_period;
+  const double drive = v * duration;
+  CityLayout city;
+  std::vector<StreetLane> ego_lanes;
+  if (!loop) {
+    // Main street j = 2 between two rows of blocks on each side; the ego drives +x in its right lane.
+    city.ny = 4;
+    const double start = city.pitch() * 1.5;
+    city.nx = static_cast<int>(std::ceil((start + drive + params.max_range + 30.0) / city.pitch()));
+    const double y = city.street_y(2) - kLaneOffset;
+    w.ego.path = Path::from_waypoints({{-200.0, y}, {city.street_x(city.nx) + 200.0 + drive, y}}, 0.0, false);
+    w.ego.s0 = start + 200.0;
+    ego_lanes.push_back({true, 2, 1});
+  } else {
+    // Counter-clockwise around a x b blocks (a ring of blocks outside), right lane (outer side).
+    // Lap about as long as the drive (at least ~400 m, at most ~2.5 km: longer drives do laps).
+    const int blocks = std::clamp(static_cast<int>(std::lround(drive / (2.0 * city.pitch()))), 2, 13);
+    const int a = (blocks + 1) / 2, b = blocks - a;
+    city.nx = a + 2;
+    city.ny = b + 2;
+    const double x0 = city.street_x(1), x1 = city.street_x(a + 1), y0 = city.street_y(1),
+                 y1 = city.street_y(b + 1);
+    const Path centre = Path::from_waypoints({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, 10.0, true);
+    w.ego.path = centre.offset(-kLaneOffset);
+    w.ego.s0 = 0.5 * (x1 - x0) - 10.0;
+    ego_lanes = {{true, 1, 1}, {false, a + 1, 1}, {true, b + 1, -1}, {false, 1, -1}};
+  }
+  w.ego.profile = SpeedProfile::constant(v);
+  build_city(w, city, static_rng, params.density);
+  add_city_traffic(w, city, traffic_rng, params.traffic,
+                   sample_route(w.ego, duration, ego_lanes, params.max_range));
+  return w;
+}
+
+}  // namespace detail
+}  // namespace dloam::sim
