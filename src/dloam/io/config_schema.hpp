@@ -1,0 +1,157 @@
+// The one table of configuration keys: for each struct of dloam/pipeline/config.hpp, a
+// visit() listing every field once with its YAML key, a one-line description (paper equation)
+// and its allowed range. Loading, dumping and validating the YAML config all walk these
+// tables, so adding a parameter is one line here. Internal to dloam_io.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "dloam/pipeline/config.hpp"
+
+namespace dloam::io::detail {
+
+/// Allowed closed range of a number; `lo_open` / `hi_open` exclude the bound.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+};
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+inline Range at_least(double lo) { return {lo, kInf, false, false}; }
+inline Range above(double lo) { return {lo, kInf, true, false}; }
+inline Range within(double lo, double hi) { return {lo, hi, false, false}; }
+/// Allowed values of a string; empty = any.
+using Choices = std::vector<std::string>;
+
+template <class V>
+void visit(SensorConfig& c, V& v) {
+  v("preset", c.preset, "built-in model: HDL-64E | HDL-32E | VLP-16 | OS1-64 | OS1-128", Choices{});
+  v("N_scan", c.N_scan, "number of beams = range-image rows (eq. 4)", within(2, 512));
+  v("Horizon_SCAN", c.Horizon_SCAN, "range-image columns = 2 pi / R_horiz (eq. 5)", within(16, 16384));
+  v("beam_elevations_deg", c.beam_elevations_deg,
+    "beam elevations (deg), bottom beam first; [] = uniform from Pit_bottom to fov_top", Range{});
+  v("Pit_bottom", c.Pit_bottom, "lowest beam pitch (deg), Pit_bottom of eq. 4", within(-90, 90));
+  v("fov_top", c.fov_top, "highest beam pitch (deg); R_vert = span / (N_scan - 1)", within(-90, 90));
+  v("min_range", c.min_range, "points closer than this (m) are dropped (ego vehicle)", at_least(0));
+  v("max_range", c.max_range, "points farther than this (m) are dropped", above(0));
+  v("scan_rate_hz", c.scan_rate_hz, "sweeps per second", above(0));
+  v("vertical_angle_correction_deg", c.vertical_angle_correction_deg,
+    "added to point elevations (deg); KITTI HDL-64E: 0.2-0.25", within(-5, 5));
+}
+
+template <class V>
+void visit(SegmentationConfig& c, V& v) {
+  v("ground_pitch_deg", c.ground_pitch_deg, "ground if adjacent-row pitch Pit_{v,v+1} is below this (eq. 7)",
+    Range{0, 90, true, true});
+  v("N_ground_rows", c.N_ground_rows, "rows from the bottom searched for ground; 0 = beams below -1 deg",
+    within(0, 512));
+  v("segment_theta_deg", c.segment_theta_deg, "angle threshold of range-image clustering (LeGO-LOAM)",
+    Range{0, 90, true, true});
+  v("N_min_cluster", c.N_min_cluster, "clusters with fewer points are outliers (LeGO-LOAM: 30)", at_least(1));
+  v("N_min_cluster_small", c.N_min_cluster_small, "... unless they have this many points", at_least(1));
+  v("N_min_cluster_rows", c.N_min_cluster_rows, "... spanning at least this many rows", at_least(1));
+}
+
+template <class V>
+void visit(PreRegistrationConfig& c, V& v) {
+  v("enabled", c.enabled, "coarse pre-registration of pole/plane objects (III.D.1)", Range{});
+  v("N_PCA", c.N_PCA, "PCA only for clusters with more than N_PCA points", at_least(3));
+  v("xi_1", c.xi_1, "pole: normalised lambda_1 above xi_1 (eq. 8)", within(0, 1));
+  v("xi_2", c.xi_2, "pole: normalised lambda_2 ~ lambda_3 below xi_2 (eq. 8)", within(0, 1));
+  v("xi_3", c.xi_3, "pole: |e_1 . n_ground| above xi_3 (eq. 9)", within(0, 1));
+  v("xi_4", c.xi_4, "vertical plane: normalised lambda_3 below xi_4 (eq. 10)", within(0, 1));
+  v("xi_5", c.xi_5, "vertical plane: |e_3 . n_ground| below xi_5 (eq. 11)", within(0, 1));
+  v("N_coarse", c.N_coarse, "RANSAC iterations of ICP giving T_coarse", at_least(1));
+  v("trim_ratio", c.trim_ratio, "worst fraction of ICP matches dropped per iteration",
+    Range{0, 1, false, true});
+}
+
+template <class V>
+void visit(DeskewConfig& c, V& v) {
+  v("enabled", c.enabled, "de-skew by interpolating T_coarse over the sweep (eq. 12)", Range{});
+  v("time_source", c.time_source, "t_i: auto (data's time, else azimuth) | azimuth | none",
+    Choices{"auto", "azimuth", "none"});
+}
+
+template <class V>
+void visit(DetectionConfig& c, V& v) {
+  v("detector", c.detector, "dynamic-object detector: none | geometric | cnn (III.D.3)",
+    Choices{"none", "geometric", "cnn"});
+  v("v_static", c.v_static, "static if range speed |r_k - r_k-1| (eq. 13) is below this", at_least(0));
+  v("v_ground", c.v_ground, "ground re-verification speed threshold (eq. 13)", at_least(0));
+  v("alpha", c.alpha, "a cluster with less than alpha static points is dynamic", within(0, 1));
+  v("N_min_dynamic", c.N_min_dynamic, "clusters with fewer pixels of known speed stay static", at_least(1));
+  v("pseudo_static", c.pseudo_static, "track previous labels of objects (stop-and-go, pseudo-static)",
+    Range{});
+  v("alpha_tracked", c.alpha_tracked, "a tracked dynamic object stays dynamic below this static fraction",
+    within(0, 1));
+  v("m", c.m, "CNN: number of recent speed/residual images in the input bag", within(1, 64));
+  v("model_path", c.model_path, "CNN: checkpoint written by `dloam train`", Choices{});
+  v("cnn_threshold", c.cnn_threshold, "CNN: moving-probability threshold", within(0, 1));
+  v("threads", c.threads, "CNN inference threads", within(1, 256));
+}
+
+template <class V>
+void visit(FeatureConfig& c, V& v) {
+  v("S", c.S, "|S|: same-row neighbours of c_i (eq. 14), half per side", within(2, 100));
+  v("N_div", c.N_div, "sub-images per range-image row", within(1, 360));
+  v("N_fe", c.N_fe, "sharpest edges per sub-image row (f_e)", at_least(0));
+  v("N_Fe", c.N_Fe, "edges per sub-image row (F_e)", at_least(0));
+  v("N_fp", c.N_fp, "flattest ground planes per sub-image row (f_p)", at_least(0));
+  v("N_Fp", c.N_Fp, "cap named in the paper; F_p takes all remaining flat points", at_least(0));
+  v("c_th", c.c_th, "edge if c_i > c_th, plane if below (eq. 14)", above(0));
+  v("double_pseudo_static", c.double_pseudo_static,
+    "double features in sub-images with type-2 pseudo-static "
+    "objects",
+    Range{});
+  v("plane_leaf_size", c.plane_leaf_size, "voxel size (m) of F_p downsampling", above(0));
+}
+
+template <class V>
+void visit(OdometryConfig& c, V& v) {
+  v("max_iterations", c.max_iterations, "LM iterations per step (planes: tz roll pitch; edges: tx ty yaw)",
+    at_least(1));
+  v("max_correspondence", c.max_correspondence, "nearest-feature search radius (m)", above(0));
+  v("weight_compensation", c.weight_compensation, "weight features by s_i (1 - r_horiz / |theta|) (eq. 15)",
+    Range{});
+  v("pseudo_static_rejection", c.pseudo_static_rejection, "RANSAC rejection of pseudo-static features",
+    Range{});
+  v("N_pseudo", c.N_pseudo, "RANSAC iterations of pseudo-static rejection", at_least(1));
+  v("beta", c.beta, "fraction of worst-matching features removed per iteration", Range{0, 1, false, true});
+  v("pseudo_inlier_distance", c.pseudo_inlier_distance,
+    "pseudo-static rejection: a feature matching worse than this (m) is an outlier", above(0));
+}
+
+template <class V>
+void visit(MappingConfig& c, V& v) {
+  v("every_n_scans", c.every_n_scans, "mapping rate = scan rate / every_n_scans (paper: 2 Hz)", at_least(1));
+  v("max_iterations", c.max_iterations, "LM iterations of scan-to-map matching", at_least(1));
+  v("keyframe_distance", c.keyframe_distance, "m between keyframes", at_least(0));
+  v("keyframe_angle_deg", c.keyframe_angle_deg, "deg between keyframes", at_least(0));
+  v("local_map_radius", c.local_map_radius, "local map: keyframes within this radius (m)", above(0));
+  v("edge_leaf_size", c.edge_leaf_size, "voxel size (m) of local-map edges", above(0));
+  v("plane_leaf_size", c.plane_leaf_size, "voxel size (m) of local-map planes", above(0));
+  v("map_leaf_size", c.map_leaf_size, "voxel size (m) of the global map (map.ply)", above(0));
+  v("loop_closure", c.loop_closure, "search loop closures among past keyframes", Range{});
+  v("loop_search_radius", c.loop_search_radius, "loop candidates within this distance (m)", above(0));
+  v("loop_min_time_s", c.loop_min_time_s, "... and at least this much older (s)", at_least(0));
+  v("loop_max_fitness", c.loop_max_fitness, "accept a loop when ICP fitness is below this", above(0));
+}
+
+/// Top level: one group per module, then the shared thread count.
+template <class V>
+void visit(PipelineConfig& c, V& v) {
+  v.group("sensor", c.sensor, "LiDAR model: range-image projection (eqs. 4-6)");
+  v.group("segmentation", c.segmentation, "III.C ground extraction (eq. 7) and clustering");
+  v.group("preregistration", c.preregistration, "III.D.1 PCA pole/plane pre-registration (eqs. 8-11)");
+  v.group("deskew", c.deskew, "III.D.2 motion-distortion removal (eq. 12)");
+  v.group("detection", c.detection, "III.D.3 dynamic-object detection (eq. 13)");
+  v.group("features", c.features, "III.E feature extraction (eq. 14)");
+  v.group("odometry", c.odometry, "III.F two-step LM odometry (eq. 15)");
+  v.group("mapping", c.mapping, "III.G scan-to-map mapping and loop closure");
+  v("threads", c.threads, "worker threads of the pipeline", within(1, 256));
+}
+
+}  // namespace dloam::io::detail

@@ -1,0 +1,201 @@
+// Loading and validating the YAML configuration by walking the key tables of config_schema.hpp.
+#include "dloam/io/config_yaml.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <type_traits>
+
+#include "dloam/core/types.hpp"
+#include "dloam/io/atomic_file.hpp"
+#include "dloam/io/config_schema.hpp"
+
+namespace dloam::io {
+
+namespace {
+using detail::Choices;
+using detail::Range;
+using detail::visit;
+
+/// Fills one struct from a YAML map, remembering which keys it knows.
+struct Loader {
+  const YAML::Node node;  // const: looking up an absent key must not add it
+  std::string source, prefix;
+  std::set<std::string> known;
+
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key_path, const std::string& what) const {
+    const int line = at.Mark().line;
+    throw InputError(source + (line >= 0 ? ":" + std::to_string(line + 1) : "") + ": " + key_path + ": " +
+                     what);
+  }
+
+  template <class T>
+  T scalar(const YAML::Node& n, const std::string& key_path, const char* expected) const {
+    if (!n.IsScalar()) fail(n, key_path, std::string("expected ") + expected);
+    try {
+      return n.as<T>();
+    } catch (const YAML::Exception&) {
+      fail(n, key_path, std::string("expected ") + expected + ", got '" + n.Scalar() + "'");
+    }
+  }
+
+  void read(const YAML::Node& n, bool& v, const std::string& p) const {
+    v = scalar<bool>(n, p, "true or false");
+  }
+  void read(const YAML::Node& n, int& v, const std::string& p) const { v = scalar<int>(n, p, "an integer"); }
+  void read(const YAML::Node& n, double& v, const std::string& p) const {
+    v = scalar<double>(n, p, "a number");
+  }
+  void read(const YAML::Node& n, std::string& v, const std::string& p) const {
+    v = n.IsNull() ? std::string() : scalar<std::string>(n, p, "a string");
+  }
+  void read(const YAML::Node& n, std::vector<double>& v, const std::string& p) const {
+    v.clear();
+    if (n.IsNull()) return;
+    if (!n.IsSequence()) fail(n, p, "expected a list of numbers, e.g. [-15.0, -13.0]");
+    for (std::size_t i = 0; i < n.size(); ++i)
+      v.push_back(scalar<double>(n[i], p + "[" + std::to_string(i) + "]", "a number"));
+  }
+
+  template <class T, class Constraint>
+  void operator()(const char* key, T& field, const char* /*doc*/, const Constraint& /*limits*/) {
+    known.insert(key);
+    const YAML::Node n = node[key];
+    if (n) read(n, field, prefix + key);
+  }
+
+  template <class S>
+  void group(const char* key, S& s, const char* /*doc*/) {
+    known.insert(key);
+    const YAML::Node n = node[key];
+    if (!n || n.IsNull()) return;
+    if (!n.IsMap()) fail(n, prefix + key, "expected a map of keys");
+    std::string preset;
+    if constexpr (std::is_same_v<S, SensorConfig>) {
+      if (n["preset"]) {
+        read(n["preset"], preset, prefix + key + ".preset");
+        try {
+          s = sensor_preset(preset);
+        } catch (const std::invalid_argument& e) {
+          fail(n["preset"], prefix + key + ".preset", e.what());
+        }
+        preset = s.preset;  // canonical spelling
+      }
+    }
+    Loader sub{n, source, prefix + key + ".", {}};
+    visit(s, sub);
+    sub.reject_unknown_keys();
+    if constexpr (std::is_same_v<S, SensorConfig>) {
+      if (!preset.empty()) s.preset = preset;
+    }
+  }
+
+  void reject_unknown_keys() const {
+    for (const auto& kv : node) {
+      const std::string key = kv.first.as<std::string>();
+      if (known.count(key)) continue;
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      fail(kv.first, prefix + key, "unknown key (known here: " + list + ")");
+    }
+  }
+};
+
+/// Checks every field against its Range / Choices.
+struct Validator {
+  std::string source, prefix;
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw InputError(source + ": " + prefix + key + " " + what);
+  }
+  void check(const char* key, double v, const Range& r) const {
+    if (!std::isfinite(v)) fail(key, "must be finite");
+    const bool low = r.lo_open ? v <= r.lo : v < r.lo;
+    const bool high = r.hi_open ? v >= r.hi : v > r.hi;
+    if (low || high) {
+      auto bound = [](double b) {
+        return std::isinf(b) ? std::string(b < 0 ? "-inf" : "inf") : std::to_string(b);
+      };
+      fail(key, "= " + std::to_string(v) + " is outside " + (r.lo_open ? "(" : "[") + bound(r.lo) + ", " +
+                    bound(r.hi) + (r.hi_open ? ")" : "]"));
+    }
+  }
+  void operator()(const char* key, int v, const char*, const Range& r) const { check(key, v, r); }
+  void operator()(const char* key, double v, const char*, const Range& r) const { check(key, v, r); }
+  void operator()(const char*, bool, const char*, const Range&) const {}
+  void operator()(const char* key, const std::vector<double>& v, const char*, const Range& r) const {
+    for (double x : v) check(key, x, r);
+  }
+  void operator()(const char* key, const std::string& v, const char*, const Choices& choices) const {
+    if (choices.empty()) return;
+    std::string list;
+    for (const auto& c : choices) {
+      if (c == v) return;
+      list += (list.empty() ? "" : " | ") + c;
+    }
+    fail(key, "= '" + v + "' must be one of " + list);
+  }
+  template <class S>
+  void group(const char* key, S& s, const char*) const {
+    Validator sub{source, prefix + key + "."};
+    visit(s, sub);
+  }
+};
+}  // namespace
+
+PipelineConfig default_config(const std::string& preset) {
+  PipelineConfig config;
+  try {
+    config.sensor = sensor_preset(preset.empty() ? "HDL-64E" : preset);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("preset: ") + e.what());
+  }
+  return config;
+}
+
+PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source,
+                                       const PipelineConfig& base) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+  PipelineConfig config = base;
+  if (root && !root.IsNull()) {
+    if (!root.IsMap()) throw InputError(source + ": expected a YAML map of sections (sensor, mapping, ...)");
+    Loader loader{root, source, "", {}};
+    visit(config, loader);
+    loader.reject_unknown_keys();
+  }
+  validate_config(config, source);
+  return config;
+}
+
+PipelineConfig load_config(const std::string& yaml_path) { return load_config(yaml_path, default_config()); }
+
+PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& base) {
+  return config_from_yaml_string(read_file(yaml_path), yaml_path, base);
+}
+
+void validate_config(const PipelineConfig& config, const std::string& source) {
+  PipelineConfig c = config;  // visit() takes non-const references
+  Validator validator{source, ""};
+  visit(c, validator);
+  try {
+    c.sensor.validate();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  auto fail = [&](const std::string& what) { throw InputError(source + ": " + what); };
+  if (c.segmentation.N_ground_rows > c.sensor.N_scan)
+    fail("segmentation.N_ground_rows is larger than sensor.N_scan");
+  if (c.segmentation.N_min_cluster_small > c.segmentation.N_min_cluster)
+    fail("segmentation.N_min_cluster_small must not exceed N_min_cluster");
+  if (c.features.S % 2 != 0) fail("features.S must be even (half of the neighbours on each side)");
+  if (c.features.N_fe > c.features.N_Fe) fail("features.N_fe must not exceed N_Fe (f_e is a subset of F_e)");
+}
+
+}  // namespace dloam::io

@@ -1,0 +1,33 @@
+// YAML configuration of the pipeline: load (defaults + optional sensor preset + explicit keys),
+// validate, and dump with every field and a comment per parameter. The key <-> field table is
+// dloam/io/config_schema.hpp. Errors are dloam::InputError naming the file, line and key path.
+#pragma once
+
+#include <string>
+
+#include "dloam/pipeline/config.hpp"
+
+namespace dloam::io {
+
+/// Built-in defaults with the sensor section of a preset (HDL-64E when empty); throws
+/// InputError for an unknown preset name.
+PipelineConfig default_config(const std::string& preset = "");
+
+/// Reads a YAML file over `base`: `sensor: {preset: NAME}` first replaces the sensor section
+/// by that preset, then every explicit key overrides. Unknown keys and wrong types are errors
+/// naming the file and key path (e.g. "sensor.N_scna"); the result is validated.
+PipelineConfig load_config(const std::string& yaml_path);
+PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& base);
+/// Same from YAML text; `source` names it in error messages.
+PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source = "<yaml>",
+                                       const PipelineConfig& base = default_config());
+
+/// Range / choice / consistency checks of every field (the limits of config_schema.hpp and
+/// SensorConfig::validate()); throws InputError "<source>: <key path> ...".
+void validate_config(const PipelineConfig& config, const std::string& source = "config");
+
+/// The full YAML: every field, grouped as in config.hpp, with a one-line comment each.
+/// `section` = "sensor", "mapping", ...: only that group (throws InputError if unknown).
+std::string dump_config(const PipelineConfig& config, const std::string& section = "");
+
+}  // namespace dloam::io

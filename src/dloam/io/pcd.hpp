@@ -1,0 +1,23 @@
+// PCD (Point Cloud Library) files, VERSION 0.7, DATA ascii or binary (binary_compressed is
+// rejected as unsupported). Fields read: x y z, optional intensity, optional per-point time
+// ("t" or "time"); any other fields are skipped. Any numeric TYPE/SIZE is accepted.
+#pragma once
+
+#include <string>
+
+#include "dloam/core/types.hpp"
+#include "dloam/io/encoding.hpp"
+
+namespace dloam::io {
+
+/// Reads a PCD scan. Rejects: missing file, bad header, truncated data, empty cloud,
+/// NaN/Inf coordinates (message names the file and the first bad point's index).
+/// Per-point times are kept when they already look like sweep fractions (all in [0, 1) and
+/// spanning at least half of it); otherwise (seconds, nanoseconds, ...) they are rescaled
+/// linearly to [0, 1) from their minimum and maximum.
+PointCloud read_pcd(const std::string& path);
+
+/// Writes float32 x y z, intensity (when present) and time (when present), atomically.
+void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encoding = Encoding::kBinary);
+
+}  // namespace dloam::io

@@ -1,0 +1,110 @@
+// Sequence folders (KITTI odometry / SemanticKITTI layout, or a folder of PCD scans): lists the
+// files, checks that labels / poses / times agree with the scans, reads scans lazily.
+#include <algorithm>
+#include <filesystem>
+
+#include "dloam/io/kitti.hpp"
+#include "dloam/io/pcd.hpp"
+#include "dloam/io/text_util.hpp"
+
+namespace dloam::io {
+
+namespace fs = std::filesystem;
+using detail::fail;
+
+namespace {
+std::vector<std::string> files_with_extension(const fs::path& folder, const std::string& ext) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) return files;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.is_regular_file() && entry.path().extension() == ext) files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string optional_file(const fs::path& dir, const char* name) {
+  std::error_code ec;
+  const fs::path p = dir / name;
+  return fs::exists(p, ec) ? p.string() : std::string();
+}
+
+std::string stem(const std::string& path) { return fs::path(path).stem().string(); }
+}  // namespace
+
+SequenceFiles list_sequence_files(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) fail(dir, "sequence folder not found");
+  if (!fs::is_directory(dir, ec)) fail(dir, "is not a folder");
+  SequenceFiles files;
+  files.dir = dir;
+  const fs::path root(dir);
+  files.scan_files = files_with_extension(root / "velodyne", ".bin");
+  if (files.scan_files.empty()) files.scan_files = files_with_extension(root / "velodyne", ".pcd");
+  if (files.scan_files.empty()) files.scan_files = files_with_extension(root, ".pcd");
+  if (files.scan_files.empty())
+    fail(dir, "no scans found (expected velodyne/*.bin, velodyne/*.pcd or *.pcd)");
+  files.has_label_dir = fs::is_directory(root / "labels", ec);
+  files.label_files = files_with_extension(root / "labels", ".label");
+  files.calib_file = optional_file(root, "calib.txt");
+  files.poses_file = optional_file(root, "poses.txt");
+  files.times_file = optional_file(root, "times.txt");
+  return files;
+}
+
+PointCloud read_scan_file(const std::string& path) {
+  if (fs::path(path).extension() == ".pcd") return read_pcd(path);
+  return read_kitti_bin(path);
+}
+
+Sequence open_sequence(const std::string& dir) {
+  const SequenceFiles files = list_sequence_files(dir);
+  Sequence seq;
+  seq.dir = dir;
+  seq.scan_files = files.scan_files;
+  const std::size_t n = seq.scan_files.size();
+  if (files.has_label_dir) {
+    if (files.label_files.size() != n)
+      fail(dir + "/labels", "has " + std::to_string(files.label_files.size()) +
+                                " .label files but there are " + std::to_string(n) + " scans");
+    for (std::size_t i = 0; i < n; ++i)
+      if (stem(files.label_files[i]) != stem(seq.scan_files[i]))
+        fail(files.label_files[i], "does not match scan " + seq.scan_files[i] + " (names must pair up)");
+    seq.label_files = files.label_files;
+  }
+  if (!files.poses_file.empty()) {
+    seq.poses = read_kitti_poses(files.poses_file);
+    if (seq.poses.size() != n)
+      fail(files.poses_file, "has " + std::to_string(seq.poses.size()) + " poses but there are " +
+                                 std::to_string(n) + " scans");
+  }
+  if (!files.times_file.empty()) {
+    seq.times = read_times(files.times_file);
+    if (seq.times.size() != n)
+      fail(files.times_file, "has " + std::to_string(seq.times.size()) + " times but there are " +
+                                 std::to_string(n) + " scans");
+  }
+  if (!files.calib_file.empty()) seq.calib = read_calib(files.calib_file);
+  return seq;
+}
+
+std::vector<Pose> Sequence::lidar_poses() const {
+  if (calib && calib->has_Tr) return camera_to_lidar(poses, calib->Tr);
+  return poses;
+}
+
+PointCloud Sequence::read_scan(std::size_t i) const {
+  if (i >= scan_files.size())
+    fail(dir, "scan index " + std::to_string(i) + " out of range (" + std::to_string(size()) + " scans)");
+  return read_scan_file(scan_files[i]);
+}
+
+std::vector<Label> Sequence::read_scan_labels(std::size_t i, std::size_t n_points) const {
+  if (!has_labels()) fail(dir, "has no labels/ folder");
+  if (i >= label_files.size())
+    fail(dir, "label index " + std::to_string(i) + " out of range (" + std::to_string(size()) + " scans)");
+  return read_labels(label_files[i], n_points);
+}
+
+}  // namespace dloam::io

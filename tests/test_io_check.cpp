@@ -1,0 +1,173 @@
+// `dloam check` and the sensor guess: synthetic scans of every preset, the real drive, and a
+// broken copy of it (the exit status and output must name the broken files).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include "dloam/core/sensor.hpp"
+#include "dloam/io/kitti.hpp"
+#include "dloam/io/sensor_estimate.hpp"
+#include "dloam/io/sequence_check.hpp"
+#include "test_io_util.hpp"
+
+using namespace dloam;
+using namespace dloam::io;
+using dloam::test::TempDir;
+using dloam::test::write_text;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+namespace {
+/// One sweep of `s`: every beam at 1000 azimuths, ranges 5-60 m, 0.02 deg elevation noise.
+PointCloud synthetic_sweep(const SensorConfig& s, std::mt19937& rng) {
+  std::uniform_real_distribution<double> range(5.0, 60.0);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  PointCloud c;
+  for (int row = 0; row < s.N_scan; ++row)
+    for (int k = 0; k < 1000; ++k) {
+      const double az = 2.0 * M_PI * k / 1000.0, el = (s.beam_elevation_deg(row) + noise(rng)) * M_PI / 180.0;
+      const double r = range(rng);
+      c.xyz.emplace_back(r * std::cos(el) * std::cos(az), r * std::cos(el) * std::sin(az), r * std::sin(el));
+    }
+  c.intensity.assign(c.size(), 0.5f);
+  return c;
+}
+
+struct CliRun {
+  int status = -1;
+  std::string output;
+};
+
+CliRun run_dloam(const std::string& args) {
+  CliRun run;
+  FILE* pipe = popen((std::string(DLOAM_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) run.output += buf.data();
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+}  // namespace
+
+TEST(SensorEstimate, FindsEveryPresetAndItsBeamCountFromSyntheticScans) {
+  std::mt19937 rng(7);
+  for (const auto& name : sensor_preset_names()) {
+    const SensorConfig s = sensor_preset(name);
+    ElevationHistogram h;
+    h.add(synthetic_sweep(s, rng));
+    const auto est = estimate_sensor(h);
+    EXPECT_EQ(est.preset, s.preset);
+    EXPECT_EQ(est.resolved_beams, s.N_scan) << name;
+    EXPECT_NEAR(est.lowest_deg, s.beam_elevation_deg(0), 0.1) << name;
+    EXPECT_NEAR(est.highest_deg, s.beam_elevation_deg(s.N_scan - 1), 0.1) << name;
+  }
+}
+
+TEST(SequenceCheck, CollectsEveryProblemNamingItsFile) {
+  TempDir dir;
+  std::mt19937 rng(1);
+  const auto vlp = sensor_preset("VLP-16");
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto scan = synthetic_sweep(vlp, rng);
+    write_kitti_bin(dir.file("velodyne/" + scan_name(i) + ".bin"), scan);
+    std::vector<Label> labels(scan.size(), semantic::kStatic);
+    for (std::size_t k = 0; k < 100; ++k) labels[k] = semantic::kMovingCar;
+    write_labels(dir.file("labels/" + scan_name(i) + ".label"), labels);
+  }
+  write_text(dir.file("times.txt"), "0\n0.1\n0.2\n0.3\n");
+  auto report = check_sequence(dir.path.string());
+  EXPECT_TRUE(report.problems.empty());
+  EXPECT_EQ(report.scans_ok, 4u);
+  EXPECT_EQ(report.moving_points, 400u);
+  EXPECT_EQ(report.labelled_points, 4u * 16000u);
+  ASSERT_TRUE(report.sensor.has_value());
+  EXPECT_EQ(report.sensor->preset, "VLP-16");
+
+  // Break three files: it must report all three, not stop at the first.
+  write_text(dir.file("velodyne/000001.bin"), "0123456789");
+  write_labels(dir.file("labels/000002.label"), {1, 2, 3});
+  write_text(dir.file("times.txt"), "0\n0.1\n0.2\n");
+  std::vector<std::string> seen;
+  report = check_sequence(dir.path.string(), [&](const std::string& p) { seen.push_back(p); });
+  ASSERT_EQ(report.problems.size(), 3u);
+  EXPECT_EQ(seen, report.problems);
+  EXPECT_THAT(report.problems[0], HasSubstr("000001.bin"));
+  EXPECT_THAT(report.problems[1], HasSubstr("000002.label"));
+  EXPECT_THAT(report.problems[2], HasSubstr("times.txt"));
+  EXPECT_EQ(report.scans_ok, 3u);
+
+  const auto missing = check_sequence(dir.file("nothing-here"));
+  ASSERT_EQ(missing.problems.size(), 1u);
+  EXPECT_THAT(missing.problems[0], HasSubstr("nothing-here"));
+}
+
+TEST(CheckCli, RealDrivePassesAndABrokenCopyFails) {
+  const std::string data = DLOAM_KITTI_0005;
+  if (!std::filesystem::exists(data)) GTEST_SKIP() << data << " is absent";
+  if (!std::filesystem::exists(DLOAM_BINARY)) GTEST_SKIP() << "no dloam binary";
+  const CliRun ok = run_dloam("check " + data);
+  EXPECT_EQ(ok.status, 0) << ok.output;
+  EXPECT_THAT(ok.output, HasSubstr("100 KITTI .bin files, 100 readable"));
+  EXPECT_THAT(ok.output, HasSubstr("HDL-64E"));
+  EXPECT_THAT(ok.output, HasSubstr("OK"));
+
+  // A copy of the first 5 scans with a truncated scan, a label file for another scan and 5 poses.
+  TempDir dir;
+  namespace fs = std::filesystem;
+  fs::create_directories(dir.path / "velodyne");
+  fs::create_directories(dir.path / "labels");
+  for (std::size_t i = 0; i < 5; ++i) {
+    const std::string n = scan_name(i);
+    fs::copy_file(data + "/velodyne/" + n + ".bin", dir.path / "velodyne" / (n + ".bin"));
+    fs::copy_file(data + "/labels/" + n + ".label", dir.path / "labels" / (n + ".label"));
+  }
+  fs::resize_file(dir.path / "velodyne/000003.bin", fs::file_size(dir.path / "velodyne/000003.bin") - 7);
+  fs::copy_file(data + "/labels/000004.label", dir.path / "labels/000001.label",
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(data + "/calib.txt", dir.path / "calib.txt");
+  fs::copy_file(data + "/poses.txt", dir.path / "poses.txt");  // 100 poses for 5 scans
+  const CliRun bad = run_dloam("check " + dir.path.string());
+  EXPECT_NE(bad.status, 0) << bad.output;
+  EXPECT_THAT(bad.output, HasSubstr("000003.bin"));
+  EXPECT_THAT(bad.output, HasSubstr("000001.label"));
+  EXPECT_THAT(bad.output, HasSubstr("poses.txt"));
+  EXPECT_THAT(bad.output, Not(HasSubstr("000002.bin")));
+  EXPECT_THAT(bad.output, HasSubstr("FAILED: 3 problems"));
+}
+
+TEST(CheckCli, UnknownPresetAndMissingFolderFail) {
+  if (!std::filesystem::exists(DLOAM_BINARY)) GTEST_SKIP() << "no dloam binary";
+  TempDir dir;
+  const CliRun missing = run_dloam("check " + dir.file("absent"));
+  EXPECT_NE(missing.status, 0);
+  EXPECT_THAT(missing.output, HasSubstr("absent"));
+  const CliRun preset = run_dloam("check " + dir.path.string() + " --preset HDL-99");
+  EXPECT_NE(preset.status, 0);
+  EXPECT_THAT(preset.output, HasSubstr("HDL-99"));
+}
+
+TEST(ConfigCli, DumpPrintsLoadableYamlAndRejectsTypos) {
+  if (!std::filesystem::exists(DLOAM_BINARY)) GTEST_SKIP() << "no dloam binary";
+  TempDir dir;
+  const CliRun dump = run_dloam("config dump --preset VLP-16");
+  ASSERT_EQ(dump.status, 0) << dump.output;
+  EXPECT_THAT(dump.output, HasSubstr("preset: VLP-16"));
+  EXPECT_THAT(dump.output, HasSubstr("mapping:"));
+  write_text(dir.file("mine.yaml"), "mapping: {every_n_scans: 5}\n");
+  const CliRun layered =
+      run_dloam("config dump --preset VLP-16 --config " + dir.file("mine.yaml") + " --section mapping");
+  ASSERT_EQ(layered.status, 0) << layered.output;
+  EXPECT_THAT(layered.output, HasSubstr("every_n_scans: 5"));
+  EXPECT_THAT(layered.output, Not(HasSubstr("sensor:")));
+  write_text(dir.file("typo.yaml"), "maping: {every_n_scans: 5}\n");
+  const CliRun typo = run_dloam("config dump --config " + dir.file("typo.yaml"));
+  EXPECT_NE(typo.status, 0);
+  EXPECT_THAT(typo.output, HasSubstr("typo.yaml"));
+  EXPECT_THAT(typo.output, HasSubstr("maping"));
+}
