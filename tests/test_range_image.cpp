@@ -36,15 +36,17 @@ TEST(Sensor, NearestBeamRowAndOutsideFov) {
   const auto h = sensor_preset("HDL-64E");
   EXPECT_EQ(h.row_of_elevation(-24.9), 0);
   EXPECT_EQ(h.row_of_elevation(2.0), 63);
-  EXPECT_EQ(h.row_of_elevation(-8.5), 31);  // nearer -8.83 than -8.33? -8.5 is 0.33 from -8.83, 0.17 from -8.33
+  EXPECT_EQ(h.row_of_elevation(-8.5), 32);  // -8.5 is 0.17 from the upper block's -8.33, 0.33 from -8.83
+  EXPECT_EQ(h.row_of_elevation(-8.7), 31);
 }
 
 TEST(RangeImage, ColumnsFollowTheSweepFromTheRearClockwise) {
   const int cols = 360;
-  EXPECT_EQ(azimuth_column(-1.0, -1e-9, cols), 0);   // rear, just clockwise of it
-  EXPECT_EQ(azimuth_column(0.0, 1.0, cols), 90);     // left (+y) comes a quarter turn later
-  EXPECT_EQ(azimuth_column(1.0, 0.0, cols), 180);    // front at mid-sweep
-  EXPECT_EQ(azimuth_column(0.0, -1.0, cols), 270);   // right
+  EXPECT_EQ(azimuth_column(-1.0, 1e-9, cols), 0);     // rear, just clockwise of it (towards +y)
+  EXPECT_EQ(azimuth_column(-1.0, -1e-9, cols), 359);  // rear, just before the sweep ends
+  EXPECT_EQ(azimuth_column(0.0, 1.0, cols), 90);      // left (+y) comes a quarter turn later
+  EXPECT_EQ(azimuth_column(1.0, 0.0, cols), 180);     // front at mid-sweep
+  EXPECT_EQ(azimuth_column(0.0, -1.0, cols), 270);    // right
   EXPECT_NEAR(azimuth_time(1.0, 0.0), 0.5, 1e-12);
 }
 
@@ -52,7 +54,7 @@ TEST(RangeImage, KeepsNearestPointPerPixelAndMapsBothWays) {
   SensorConfig s = sensor_preset("VLP-16");
   s.Horizon_SCAN = 360;
   std::vector<Vec3> pts = {dir(10.2, 1.0, 10.0), dir(10.3, 1.1, 5.0), dir(-40.0, -15.0, 20.0),
-                           dir(0.0, 30.0, 10.0), dir(5.0, 0.0, 0.5), dir(5.0, 0.0, 500.0)};
+                           dir(0.0, 30.0, 10.0), dir(5.0, 0.0, 0.5),  dir(5.0, 0.0, 500.0)};
   const RangeImage img = project(pts, s);
   ASSERT_EQ(img.rows, 16);
   // Points 0 and 1 share a pixel; the nearer (1) wins, both keep their row/col.

@@ -29,13 +29,18 @@ Scene make_scene(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::normal_distribution<double> noise(0.0, 0.005);
   Scene s;
-  for (int i = 0; i < 3000; ++i) s.planes.emplace_back(20 * u(rng), 20 * u(rng), -1.8 + noise(rng));  // ground
-  for (int i = 0; i < 1500; ++i) s.planes.emplace_back(12 + noise(rng), 20 * u(rng), 2 * u(rng));     // wall x=12
-  for (int i = 0; i < 1500; ++i) s.planes.emplace_back(20 * u(rng), -9 + noise(rng), 2 * u(rng));     // wall y=-9
-  for (int i = 0; i < 1500; ++i) s.planes.emplace_back(-15 + noise(rng), 20 * u(rng), 2 * u(rng));    // wall x=-15
+  for (int i = 0; i < 3000; ++i)
+    s.planes.emplace_back(20 * u(rng), 20 * u(rng), -1.8 + noise(rng));  // ground
+  for (int i = 0; i < 1500; ++i)
+    s.planes.emplace_back(12 + noise(rng), 20 * u(rng), 2 * u(rng));  // wall x=12
+  for (int i = 0; i < 1500; ++i)
+    s.planes.emplace_back(20 * u(rng), -9 + noise(rng), 2 * u(rng));  // wall y=-9
+  for (int i = 0; i < 1500; ++i)
+    s.planes.emplace_back(-15 + noise(rng), 20 * u(rng), 2 * u(rng));  // wall x=-15
   const Vec3 poles[] = {{5, 5, 0}, {-6, 4, 0}, {3, -6, 0}, {-4, -5, 0}, {9, 2, 0}, {-10, -2, 0}};
   for (const auto& p : poles)
-    for (int i = 0; i < 60; ++i) s.edges.emplace_back(p.x() + noise(rng), p.y() + noise(rng), -1.8 + 4.0 * (i / 60.0));
+    for (int i = 0; i < 60; ++i)
+      s.edges.emplace_back(p.x() + noise(rng), p.y() + noise(rng), -1.8 + 4.0 * (i / 60.0));
   return s;
 }
 
@@ -117,7 +122,7 @@ TEST(Registration, DegenerateCorridorDoesNotDiverge) {
   const auto r = register_features(src, target, Pose::Identity(), p);
   EXPECT_TRUE(r.degenerate);
   EXPECT_LT(std::abs(r.T.translation().x()), 0.5 + 1e-6);  // no runaway along the corridor
-  EXPECT_NEAR(r.T.translation().y(), 0.1, 0.02);            // constrained directions still solved
+  EXPECT_NEAR(r.T.translation().y(), 0.1, 0.02);           // constrained directions still solved
 }
 
 TEST(Deskew, UndoesConstantMotionDuringTheSweep) {

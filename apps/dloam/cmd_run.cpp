@@ -12,6 +12,7 @@
 
 #include "commands.hpp"
 #include "dloam/core/range_image.hpp"
+#include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/kitti.hpp"
@@ -33,8 +34,9 @@ struct RunArgs {
 };
 
 PipelineConfig make_config(const RunArgs& a) {
-  PipelineConfig cfg = a.config_path.empty() ? io::default_config(a.preset) : io::load_config(a.config_path);
-  if (!a.config_path.empty() && !a.preset.empty()) cfg.sensor = io::default_config(a.preset).sensor;
+  // The preset is the starting point; the file's keys override it (as `dloam config dump`).
+  PipelineConfig cfg = io::default_config(a.preset);
+  if (!a.config_path.empty()) cfg = io::load_config(a.config_path, cfg);
   if (!a.detector.empty()) cfg.detection.detector = a.detector;
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;
@@ -65,16 +67,46 @@ void write_timing(const std::string& path, const std::vector<ScanResult>& result
   io::write_atomic(path, [&](std::ostream& out) {
     out << "scan";
     for (auto name : kModuleNames) out << ',' << name << "_ms";
-    out << ",mapped,keyframe,degenerate\n";
+    out << ",edges,planes,mapped,keyframe,loop_closed,degenerate\n";
     for (const auto& r : results) {
       out << r.index;
       for (double ms : r.times.ms) out << ',' << fmt::format("{:.3f}", ms);
-      out << ',' << r.mapped << ',' << r.keyframe << ',' << r.degenerate << '\n';
+      out << ',' << r.n_edges << ',' << r.n_planes << ',' << r.mapped << ',' << r.keyframe << ','
+          << r.loop_closed << ',' << r.degenerate << '\n';
     }
   });
 }
 
-void write_trajectories(const std::string& dir, const io::Sequence& seq, const std::vector<Pose>& lidar_poses) {
+/// Ground-truth label statistics of a run (sequence with labels/): Table III's effective-feature
+/// ratio, and the fraction of the points added to the global map (before its voxel downsampling)
+/// that the ground truth labels moving (ghost points).
+struct LabelStats {
+  eval::FeatureCounts features;
+  std::uint64_t map_points = 0, map_moving = 0;
+  void add(const std::vector<Label>& gt, const ScanResult& r) {
+    std::vector<std::size_t> idx = r.edge_features;
+    idx.insert(idx.end(), r.plane_features.begin(), r.plane_features.end());
+    features += eval::count_effective_features(gt, idx);
+    for (std::size_t i : r.map_points) {
+      if (semantic::is_ignored(gt[i])) continue;
+      ++map_points;
+      map_moving += semantic::is_moving(gt[i]);
+    }
+  }
+  void write(const std::string& path) const {
+    nlohmann::json j = nlohmann::json::object();
+    if (fs::exists(path)) j = nlohmann::json::parse(std::ifstream(path));
+    j["effective_feature_ratio"] = features.ratio();
+    j["features_on_labelled_points"] = features.total;
+    j["map_input_moving_fraction"] = map_points ? static_cast<double>(map_moving) / map_points : 0.0;
+    io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
+    fmt::print("effective features (Table III): {:.2f} % of {}; moving points sent to the map: {:.3f} %\n",
+               100.0 * features.ratio(), features.total, map_points ? 100.0 * map_moving / map_points : 0.0);
+  }
+};
+
+void write_trajectories(const std::string& dir, const io::Sequence& seq,
+                        const std::vector<Pose>& lidar_poses) {
   // Same frame convention as the input's poses.txt: camera frame when calib.txt has Tr.
   const bool camera = seq.calib && seq.calib->has_Tr;
   const auto poses = camera ? io::lidar_to_camera(lidar_poses, seq.calib->Tr) : lidar_poses;
@@ -90,7 +122,8 @@ void print_summary(const std::vector<ScanResult>& results) {
   for (const auto& r : results)
     for (std::size_t m = 0; m < mean.ms.size(); ++m) mean.ms[m] += r.times.ms[m] / results.size();
   fmt::print("\nper-scan time (ms, mean over {} scans):\n", results.size());
-  for (std::size_t m = 0; m < mean.ms.size(); ++m) fmt::print("  {:<13} {:8.2f}\n", kModuleNames[m], mean.ms[m]);
+  for (std::size_t m = 0; m < mean.ms.size(); ++m)
+    fmt::print("  {:<13} {:8.2f}\n", kModuleNames[m], mean.ms[m]);
   fmt::print("  => {:.1f} scans/s\n", mean[Module::kTotal] > 0 ? 1000.0 / mean[Module::kTotal] : 0.0);
 }
 
@@ -98,19 +131,23 @@ void run(const RunArgs& a) {
   const PipelineConfig cfg = make_config(a);
   const io::Sequence seq = io::open_sequence(a.sequence);
   const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
-  if (first >= seq.size()) throw InputError(fmt::format("{}: --first {} but the sequence has {} scans", a.sequence, first, seq.size()));
-  const std::size_t last = a.count < 0 ? seq.size() : std::min(seq.size(), first + static_cast<std::size_t>(a.count));
+  if (first >= seq.size())
+    throw InputError(
+        fmt::format("{}: --first {} but the sequence has {} scans", a.sequence, first, seq.size()));
+  const std::size_t last =
+      a.count < 0 ? seq.size() : std::min(seq.size(), first + static_cast<std::size_t>(a.count));
   fs::create_directories(a.out);
   io::write_atomic(a.out + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(cfg); });
   const bool labels_on = cfg.detection.detector != "none";
   if (labels_on) fs::create_directories(a.out + "/labels");
 
-  fmt::print("dloam run: {} scans of {} ({} preset, detector {}, de-skew {}) -> {}\n", last - first, a.sequence,
-             cfg.sensor.preset, cfg.detection.detector, cfg.deskew.enabled ? "on" : "off", a.out);
+  fmt::print("dloam run: {} scans of {} ({} preset, detector {}, de-skew {}) -> {}\n", last - first,
+             a.sequence, cfg.sensor.preset, cfg.detection.detector, cfg.deskew.enabled ? "on" : "off", a.out);
   Pipeline pipeline(cfg);
   std::vector<ScanResult> results;
   std::vector<Pose> poses;
   Progress progress("run", last - first);
+  LabelStats label_stats;
   g_stop = false;
   auto previous_handler = std::signal(SIGINT, [](int) { g_stop = true; });
   for (std::size_t i = first; i < last && !g_stop; ++i) {
@@ -118,32 +155,42 @@ void run(const RunArgs& a) {
     if (i == first) check_sensor_fits(cloud, cfg.sensor, seq.scan_files[i]);
     ScanResult r = pipeline.process(cloud);
     r.index = i;
+    if (seq.has_labels()) label_stats.add(seq.read_scan_labels(i, cloud.size()), r);
     if (labels_on) io::write_labels(fmt::format("{}/labels/{}.label", a.out, io::scan_name(i)), r.labels);
     poses.push_back(r.pose);
-    r.labels.clear();
-    r.edge_features.clear();
-    r.plane_features.clear();
+    r.labels = {};  // keep only what timing.csv needs
+    r.n_edges = r.edge_features.size();
+    r.n_planes = r.plane_features.size();
+    r.edge_features = {};
+    r.plane_features = {};
+    r.map_points = {};
     results.push_back(std::move(r));
-    if (results.size() % 50 == 0) write_trajectories(a.out, seq, poses);  // an interrupted run keeps its poses
+    if (results.size() % 50 == 0)
+      write_trajectories(a.out, seq, poses);  // an interrupted run keeps its poses
     progress.update(results.size(), fmt::format("{:.0f} ms/scan", results.back().times[Module::kTotal]));
   }
   std::signal(SIGINT, previous_handler);
-  if (g_stop) fmt::print(stderr, "\ninterrupted: writing outputs for the {} scans processed\n", results.size());
+  if (g_stop)
+    fmt::print(stderr, "\ninterrupted: writing outputs for the {} scans processed\n", results.size());
 
+  poses = pipeline.corrected_trajectory(poses);  // loop closures move earlier scans too
   write_trajectories(a.out, seq, poses);
   write_timing(a.out + "/timing.csv", results);
   PointCloud map;
   map.xyz = pipeline.global_map();
   io::write_ply(a.out + "/map.ply", map);
   print_summary(results);
+  fmt::print("loop closures: {}\n", pipeline.loop_closures());
   fmt::print("wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), timing.csv, config.yaml{}\n", a.out,
              map.size(), labels_on ? ", labels/" : "");
 
   if (seq.has_poses()) {
     const auto gt_all = seq.lidar_poses();
-    const std::vector<Pose> gt(gt_all.begin() + static_cast<long>(first), gt_all.begin() + static_cast<long>(first + poses.size()));
+    const std::vector<Pose> gt(gt_all.begin() + static_cast<long>(first),
+                               gt_all.begin() + static_cast<long>(first + poses.size()));
     write_odometry_metrics(a.out + "/metrics.json", gt, poses, a.lengths);
   }
+  if (seq.has_labels() && !results.empty()) label_stats.write(a.out + "/metrics.json");
   if (g_stop) throw InputError("interrupted by the user (outputs written)");
 }
 
@@ -162,14 +209,20 @@ void register_run(CLI::App& app) {
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500");
-  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--out,-o", args->out, "output folder")->required();
-  cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")->check(CLI::ExistingFile);
+  cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
-  cmd->add_option("--detector", args->detector, "dynamic-object detector")->check(CLI::IsMember({"none", "geometric", "cnn"}));
-  cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")->check(CLI::IsMember({"on", "off"}));
-  cmd->add_option("--lengths", args->lengths, "segment lengths (m) for metrics.json; default: devkit 100..800, "
-                                             "or 5,10,20,30 with every frame as a start on drives under 200 m")
+  cmd->add_option("--detector", args->detector, "dynamic-object detector")
+      ->check(CLI::IsMember({"none", "geometric", "cnn"}));
+  cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
+      ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--lengths", args->lengths,
+                  "segment lengths (m) for metrics.json; default: devkit 100..800, "
+                  "or 5,10,20,30 with every frame as a start on drives under 200 m")
       ->delimiter(',');
   cmd->add_option("--first", args->first, "first scan index");
   cmd->add_option("--count", args->count, "number of scans (default: all)");

@@ -13,7 +13,9 @@ namespace dloam::app {
 class Progress {
  public:
   Progress(std::string label, std::size_t total)
-      : label_(std::move(label)), total_(total), tty_(isatty(STDERR_FILENO) != 0),
+      : label_(std::move(label)),
+        total_(total),
+        tty_(isatty(STDERR_FILENO) != 0),
         start_(std::chrono::steady_clock::now()) {}
 
   /// `done` items finished; `extra` is appended (e.g. the current speed).
@@ -31,7 +33,8 @@ class Progress {
                    extra.c_str());
       if (done == total_) std::fprintf(stderr, "\n");
     } else if (pct >= next_pct_ || done == total_) {
-      std::fprintf(stderr, "%s %3d%% (%zu/%zu) %.1f/s %s\n", label_.c_str(), pct, done, total_, rate, extra.c_str());
+      std::fprintf(stderr, "%s %3d%% (%zu/%zu) %.1f/s %s\n", label_.c_str(), pct, done, total_, rate,
+                   extra.c_str());
       next_pct_ = pct / 10 * 10 + 10;
     }
     std::fflush(stderr);

@@ -24,7 +24,8 @@ eval::SegmentOptions segment_options(const std::vector<Pose>& gt, const std::vec
 }
 
 void print_odometry(const eval::OdometryResult& r, const std::string& frame) {
-  fmt::print("odometry: {} frames, ground-truth path {:.2f} m, frame: {}\n", r.frames, r.path_length_m, frame);
+  fmt::print("odometry: {} frames, ground-truth path {:.2f} m, frame: {}\n", r.frames, r.path_length_m,
+             frame);
   fmt::print("  {:>10} {:>9} {:>12} {:>16}\n", "length [m]", "segments", "t_rel [%]", "r_rel [deg/100m]");
   for (const auto& e : r.relative.per_length)
     fmt::print("  {:>10g} {:>9} {:>12.4f} {:>16.4f}\n", e.length, e.count, e.t_rel_pct, e.r_rel_deg100m);
@@ -32,17 +33,21 @@ void print_odometry(const eval::OdometryResult& r, const std::string& frame) {
              r.relative.r_rel_deg100m);
   if (r.relative.segments.empty())
     fmt::print("  no segment: the path is shorter than every segment length (try --lengths 5,10,20,30)\n");
-  fmt::print("  ATE RMSE {:.4f} m (max {:.4f}), after SE(3) alignment {:.4f} m (max {:.4f})\n", r.ate.rmse, r.ate.max,
-             r.ate_aligned.rmse, r.ate_aligned.max);
-  fmt::print("  RPE per frame: translation RMSE {:.4f} m (mean {:.4f}), rotation RMSE {:.4f} deg (mean {:.4f})\n",
-             r.rpe.trans_m.rmse, r.rpe.trans_m.mean, r.rpe.rot_deg.rmse, r.rpe.rot_deg.mean);
+  fmt::print("  ATE RMSE {:.4f} m (max {:.4f}), after SE(3) alignment {:.4f} m (max {:.4f})\n", r.ate.rmse,
+             r.ate.max, r.ate_aligned.rmse, r.ate_aligned.max);
+  fmt::print(
+      "  RPE per frame: translation RMSE {:.4f} m (mean {:.4f}), rotation RMSE {:.4f} deg (mean {:.4f})\n",
+      r.rpe.trans_m.rmse, r.rpe.trans_m.mean, r.rpe.rot_deg.rmse, r.rpe.rot_deg.mean);
 }
 
-json odometry_json(const eval::OdometryResult& r, const eval::SegmentOptions& options, const std::string& frame) {
+json odometry_json(const eval::OdometryResult& r, const eval::SegmentOptions& options,
+                   const std::string& frame) {
   json per_length = json::array();
   for (const auto& e : r.relative.per_length)
-    per_length.push_back(
-        {{"length_m", e.length}, {"segments", e.count}, {"t_rel_pct", e.t_rel_pct}, {"r_rel_deg100m", e.r_rel_deg100m}});
+    per_length.push_back({{"length_m", e.length},
+                          {"segments", e.count},
+                          {"t_rel_pct", e.t_rel_pct},
+                          {"r_rel_deg100m", e.r_rel_deg100m}});
   return {{"frame", frame},
           {"frames", r.frames},
           {"path_length_m", r.path_length_m},
@@ -62,8 +67,8 @@ json odometry_json(const eval::OdometryResult& r, const eval::SegmentOptions& op
           {"rpe_rot_mean_deg", r.rpe.rot_deg.mean}};
 }
 
-void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt, const std::vector<Pose>& est,
-                            const std::vector<double>& lengths) {
+void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,
+                            const std::vector<Pose>& est, const std::vector<double>& lengths) {
   const auto options = segment_options(gt, lengths);
   const auto r = eval::evaluate_odometry(gt, est, options);
   const std::string frame = "lidar";

@@ -19,7 +19,7 @@ nlohmann::json odometry_json(const eval::OdometryResult& r, const eval::SegmentO
                              const std::string& frame);
 
 /// Evaluates, prints the table and writes `json_path` (used by `dloam run` with ground truth).
-void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt, const std::vector<Pose>& est,
-                            const std::vector<double>& lengths);
+void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,
+                            const std::vector<Pose>& est, const std::vector<double>& lengths);
 
 }  // namespace dloam::app

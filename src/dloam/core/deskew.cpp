@@ -18,8 +18,8 @@ std::vector<double> point_times(const PointCloud& cloud, bool use_channel) {
   return t;
 }
 
-std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times, const Pose& motion,
-                         double reference_time, int bins) {
+std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
+                         const Pose& motion, double reference_time, int bins) {
   const Vec6 xi = log_se3(motion);
   std::vector<Pose> table(static_cast<std::size_t>(bins));
   for (int b = 0; b < bins; ++b) {
@@ -30,6 +30,18 @@ std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<doub
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int b = std::clamp(static_cast<int>(times[i] * bins), 0, bins - 1);
     out[i] = table[static_cast<std::size_t>(b)] * points[i];
+  }
+  return out;
+}
+
+std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
+                         const std::vector<int>& indices, const Pose& motion, double reference_time) {
+  const Vec6 xi = log_se3(motion);
+  std::vector<Vec3> out;
+  out.reserve(indices.size());
+  for (int i : indices) {
+    const auto k = static_cast<std::size_t>(i);
+    out.push_back(exp_se3((times[k] - reference_time) * xi) * points[k]);
   }
   return out;
 }

@@ -16,7 +16,12 @@ std::vector<double> point_times(const PointCloud& cloud, bool use_channel);
 /// -> this scan's, T^{k-1 -> k} expressed in the sensor frame). A point measured at time t is
 /// mapped into the frame at `reference_time`: p' = linear(motion, t - reference_time) * p.
 /// Times are quantised into `bins` slices so the per-point cost is one matrix product.
-std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times, const Pose& motion,
-                         double reference_time = 0.5, int bins = 256);
+std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
+                         const Pose& motion, double reference_time = 0.5, int bins = 256);
+
+/// The same for the points `indices` of `points` only (e.g. the features of a scan, when a better
+/// motion estimate arrives after they were extracted).
+std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
+                         const std::vector<int>& indices, const Pose& motion, double reference_time = 0.5);
 
 }  // namespace dloam

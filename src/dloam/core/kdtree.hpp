@@ -1,10 +1,9 @@
 // k-d tree over a vector of 3D points (nanoflann), for nearest-feature search.
 #pragma once
 
-#include <nanoflann.hpp>
-
 #include <cstdint>
 #include <memory>
+#include <nanoflann.hpp>
 #include <vector>
 
 #include "dloam/core/types.hpp"
@@ -36,7 +35,9 @@ class KdTree {
   struct Adaptor {
     std::vector<Vec3> pts;
     [[nodiscard]] std::size_t kdtree_get_point_count() const { return pts.size(); }
-    [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t d) const { return pts[i][static_cast<int>(d)]; }
+    [[nodiscard]] double kdtree_get_pt(std::size_t i, std::size_t d) const {
+      return pts[i][static_cast<int>(d)];
+    }
     template <class BBox>
     bool kdtree_get_bbox(BBox&) const {
       return false;

@@ -26,9 +26,10 @@ class LocalMap {
     dirty_ = true;
   }
   [[nodiscard]] const std::vector<Keyframe>& keyframes() const { return keyframes_; }
-  [[nodiscard]] std::vector<Keyframe>& keyframes() {
+  /// Moves the keyframes (e.g. after a loop closure); the local map is rebuilt on next use.
+  void set_poses(const std::vector<Pose>& poses) {
+    for (std::size_t i = 0; i < keyframes_.size() && i < poses.size(); ++i) keyframes_[i].pose = poses[i];
     dirty_ = true;
-    return keyframes_;
   }
   [[nodiscard]] bool empty() const { return keyframes_.empty(); }
 

@@ -1,6 +1,7 @@
 #include "dloam/core/mapping.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "dloam/core/voxel_grid.hpp"
 
@@ -9,12 +10,17 @@ namespace dloam {
 MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, const Pose& predicted) {
   MappingResult out;
   out.pose = predicted;
+  // The scan's features at the map's resolution: the source of registration and of a keyframe.
+  const FeatureSource source{voxel_downsample_points(features.edges, config_.edge_leaf_size),
+                             voxel_downsample_points(features.planes, config_.plane_leaf_size),
+                             {},
+                             {}};
   if (!local_.empty()) {
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
     p.max_correspondence = 1.0;
     p.dof = kAllDof;
-    out.registration = register_features(features, local_.around(predicted.translation()), predicted, p);
+    out.registration = register_features(source, local_.around(predicted.translation()), predicted, p);
     out.pose = out.registration.T;
   }
   // A new keyframe when far enough (or turned enough) from the last one.
@@ -26,9 +32,53 @@ MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, c
           Eigen::AngleAxisd(rel.rotation()).angle() >= config_.keyframe_angle_deg * M_PI / 180.0;
   }
   if (add) {
-    local_.add({scan, out.pose, voxel_downsample_points(features.edges, config_.edge_leaf_size),
-                voxel_downsample_points(features.planes, config_.plane_leaf_size)});
+    local_.add({scan, out.pose, source.edges, source.planes});
     out.keyframe = true;
+    close_loop(out);
+    reported_.push_back(out.pose);
+  }
+  return out;
+}
+
+void Mapper::close_loop(MappingResult& out) {
+  // Odometry and loop uncertainties: the loop is as certain as one odometry step, so an accepted loop
+  // spreads the drift along the whole chain; the Huber width only bounds gross outliers.
+  constexpr double kSigmaRotation = 0.01, kSigmaTranslation = 0.1;  // rad, m
+  const std::size_t k = local_.keyframes().size() - 1;
+  const std::vector<Keyframe>& kfs = local_.keyframes();
+  if (k > 0)
+    edges_.push_back({k - 1, k, normalized(kfs[k - 1].pose.inverse() * kfs[k].pose),
+                      information_from_sigmas(kSigmaRotation, kSigmaTranslation), false});
+  if (!config_.loop_closure) return;
+  const auto loop = detect_loop(kfs, k, loop_params_);
+  if (!loop) return;
+  edges_.push_back({loop->candidate, loop->current, loop->relative,
+                    information_from_sigmas(kSigmaRotation, kSigmaTranslation), true});
+  std::vector<Pose> poses;
+  poses.reserve(kfs.size());
+  for (const Keyframe& kf : kfs) poses.push_back(kf.pose);
+  PoseGraphOptions options;
+  options.loop_huber = 3.0;
+  const std::vector<Pose> optimized = optimize_pose_graph(poses, edges_, options);
+  local_.set_poses(optimized);
+  out.pose = optimized[k];
+  out.loop = loop;
+  loops_.push_back(*loop);
+}
+
+std::vector<Pose> Mapper::corrected_trajectory(const std::vector<Pose>& scan_poses) const {
+  std::vector<Pose> out = scan_poses;
+  const std::vector<Keyframe>& kfs = local_.keyframes();
+  std::size_t k = 0;  // the next keyframe not yet governing
+  Pose delta = Pose::Identity();
+  bool governed = false;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    while (k < kfs.size() && kfs[k].scan <= i) {
+      delta = kfs[k].pose * reported_[k].inverse();
+      governed = true;
+      ++k;
+    }
+    if (governed) out[i] = normalized(delta * scan_poses[i]);
   }
   return out;
 }
@@ -42,6 +92,8 @@ void Mapper::add_to_global_map(const std::vector<Vec3>& points, const Pose& pose
   }
 }
 
-std::vector<Vec3> Mapper::global_map() const { return voxel_downsample_points(global_, config_.map_leaf_size); }
+std::vector<Vec3> Mapper::global_map() const {
+  return voxel_downsample_points(global_, config_.map_leaf_size);
+}
 
 }  // namespace dloam

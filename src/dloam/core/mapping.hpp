@@ -1,36 +1,61 @@
 // LiDAR mapping (paper III.G, LeGO-LOAM): scan-to-map registration of the current scan's F_e / F_p
-// against the local map of keyframes around the predicted pose, keyframe insertion, and the
-// downsampled global map of static points.
+// against the local map of keyframes around the predicted pose, keyframe insertion, loop closure
+// (each new keyframe is checked against older ones; an accepted loop optimises the keyframe pose
+// graph and moves the keyframes), and the downsampled global map of static points.
 #pragma once
 
+#include <optional>
+
 #include "dloam/core/local_map.hpp"
+#include "dloam/core/loop_closure.hpp"
+#include "dloam/core/pose_graph.hpp"
 #include "dloam/pipeline/config.hpp"
 
 namespace dloam {
 
 struct MappingResult {
-  Pose pose = Pose::Identity();  ///< refined world pose of the scan
+  Pose pose = Pose::Identity();  ///< refined world pose of the scan (loop-corrected when `loop` is set)
   RegistrationResult registration;
   bool keyframe = false;
+  std::optional<LoopConstraint> loop;  ///< a loop closed at this scan (then every keyframe pose moved)
 };
 
 class Mapper {
  public:
-  explicit Mapper(const MappingConfig& config)
-      : config_(config), local_(config.local_map_radius, config.edge_leaf_size, config.plane_leaf_size) {}
+  /// `scan_rate_hz` converts the config's loop_min_time_s to scans (pass SensorConfig::scan_rate_hz).
+  explicit Mapper(const MappingConfig& config, double scan_rate_hz = 10.0)
+      : config_(config),
+        local_(config.local_map_radius, config.edge_leaf_size, config.plane_leaf_size),
+        loop_params_(loop_params(config, scan_rate_hz)) {}
 
-  /// Features in the scan's sensor frame; `predicted` world pose from the odometry.
+  /// Features in the scan's sensor frame; `predicted` world pose from the odometry. `scan` indices increase.
   MappingResult process(std::size_t scan, const FeatureSource& features, const Pose& predicted);
 
   /// Adds static points of a scan (sensor frame) at its world pose to the global map.
   void add_to_global_map(const std::vector<Vec3>& points, const Pose& pose);
   [[nodiscard]] std::vector<Vec3> global_map() const;
+  /// Keyframes with their current (loop-corrected) poses.
   [[nodiscard]] const std::vector<Keyframe>& keyframes() const { return local_.keyframes(); }
+  /// Loops accepted so far, in order.
+  [[nodiscard]] const std::vector<LoopConstraint>& loops() const { return loops_; }
+
+  /// Rewrites a trajectory after loop closures. `scan_poses[i]` is the pose reported for scan i (the
+  /// `scan` argument of process(), e.g. Pipeline's ScanResult::pose); each scan moves rigidly with the
+  /// latest keyframe at or before it, from that keyframe's pose when it was reported to its current
+  /// one. Scans before the first keyframe are unchanged. Identity when no loop closed.
+  [[nodiscard]] std::vector<Pose> corrected_trajectory(const std::vector<Pose>& scan_poses) const;
 
  private:
+  /// Graph edge to the newest keyframe, loop search, optimisation; updates `out` on a loop.
+  void close_loop(MappingResult& out);
+
   MappingConfig config_;
   LocalMap local_;
-  std::vector<Vec3> global_;       // world-frame static points, compacted by voxel downsampling
+  LoopParams loop_params_;
+  std::vector<PoseGraphEdge> edges_;  // odometry edges between consecutive keyframes, loop edges
+  std::vector<Pose> reported_;        // per keyframe: the pose returned by process()
+  std::vector<LoopConstraint> loops_;
+  std::vector<Vec3> global_;        // world-frame static points, compacted by voxel downsampling
   std::size_t compacted_size_ = 0;  // size after the last compaction
 };
 

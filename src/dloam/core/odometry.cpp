@@ -1,9 +1,11 @@
 #include "dloam/core/odometry.hpp"
 
+#include "dloam/core/pseudo_static_rejection.hpp"
+
 namespace dloam {
 
-OdometryResult ScanToScanOdometry::process(const FeatureSource& sharp, std::vector<Vec3> all_edges,
-                                           std::vector<Vec3> all_planes, const Pose& predicted) {
+OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Pose& predicted,
+                                            bool with_rejection) const {
   OdometryResult out;
   out.motion = predicted;
   if (previous_) {
@@ -12,19 +14,36 @@ OdometryResult ScanToScanOdometry::process(const FeatureSource& sharp, std::vect
     p.max_iterations = config_.max_iterations;
     p.max_correspondence = config_.max_correspondence;
 
-    FeatureSource planes_only{{}, sharp.planes, {}, sharp.plane_weights};
-    p.dof = kPlaneStepDof;
-    out.plane_step = register_features(planes_only, *previous_, out.motion, p);
+    auto two_step = [&](const FeatureSource& src, const Pose& initial) {
+      FeatureSource planes_only{{}, src.planes, {}, src.plane_weights};
+      p.dof = kPlaneStepDof;
+      out.plane_step = register_features(planes_only, *previous_, initial, p);
 
-    FeatureSource edges_only{sharp.edges, {}, sharp.edge_weights, {}};
-    p.dof = kEdgeStepDof;
-    out.edge_step = register_features(edges_only, *previous_, out.plane_step.T, p);
+      FeatureSource edges_only{src.edges, {}, src.edge_weights, {}};
+      p.dof = kEdgeStepDof;
+      out.edge_step = register_features(edges_only, *previous_, out.plane_step.T, p);
+      // Residuals of the combined estimate, edges then planes (for the rejection).
+      RegistrationResult r = out.edge_step;
+      r.residuals.insert(r.residuals.end(), out.plane_step.residuals.begin(), out.plane_step.residuals.end());
+      return r;
+    };
+    if (with_rejection && config_.pseudo_static_rejection) {
+      const auto rej = reject_pseudo_static(sharp, out.motion, config_.N_pseudo, config_.beta,
+                                            config_.pseudo_inlier_distance, two_step);
+      out.rejection_rounds = rej.rounds;
+      out.rejected = rej.removed;
+    } else {
+      two_step(sharp, out.motion);
+    }
     out.motion = out.edge_step.T;
   }
+  return out;
+}
+
+void ScanToScanOdometry::set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes) {
   previous_ = std::make_unique<FeatureMap>();
   previous_->edges.build(std::move(all_edges));
   previous_->planes.build(std::move(all_planes));
-  return out;
 }
 
 }  // namespace dloam

@@ -1,6 +1,8 @@
 // LiDAR odometry (paper III.F, LeGO-LOAM's two-step LM): the sharp features of the current scan
 // (f_e, f_p) are matched against all features of the previous scan (F_e, F_p). Step 1 uses the
-// plane features for [t_z, roll, pitch], step 2 the edge features for [t_x, t_y, yaw].
+// plane features for [t_z, roll, pitch], step 2 the edge features for [t_x, t_y, yaw]. With the
+// dynamic-object detector on, the two-step estimate can run inside the RANSAC pseudo-static
+// feature rejection (pseudo_static_rejection.hpp, N_pseudo, beta).
 #pragma once
 
 #include <memory>
@@ -15,6 +17,8 @@ struct OdometryResult {
   RegistrationResult plane_step;
   RegistrationResult edge_step;
   bool initialized = false;  ///< false for the first scan (no previous features)
+  int rejection_rounds = 0;  ///< pseudo-static rejection: estimates made (0 = not used)
+  std::size_t rejected = 0;  ///< pseudo-static rejection: features removed
 };
 
 class ScanToScanOdometry {
@@ -23,8 +27,18 @@ class ScanToScanOdometry {
 
   /// `sharp`: f_e / f_p of the current scan with their weights; `all_edges` / `all_planes`:
   /// F_e / F_p of the current scan, kept as the next scan's target. `predicted`: initial motion.
-  OdometryResult process(const FeatureSource& sharp, std::vector<Vec3> all_edges, std::vector<Vec3> all_planes,
-                         const Pose& predicted);
+  /// `with_rejection`: run the RANSAC pseudo-static rejection when the config enables it.
+  OdometryResult process(const FeatureSource& sharp, std::vector<Vec3> all_edges,
+                         std::vector<Vec3> all_planes, const Pose& predicted, bool with_rejection = false) {
+    OdometryResult out = estimate(sharp, predicted, with_rejection);
+    set_previous(std::move(all_edges), std::move(all_planes));
+    return out;
+  }
+  /// The motion of `sharp` against the previous scan's features (predicted motion when none yet).
+  [[nodiscard]] OdometryResult estimate(const FeatureSource& sharp, const Pose& predicted,
+                                        bool with_rejection = false) const;
+  /// F_e / F_p of the current scan become the next scan's target.
+  void set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes);
 
  private:
   OdometryConfig config_;

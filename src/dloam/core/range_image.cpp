@@ -16,7 +16,9 @@ double azimuth_time(double x, double y) {
   return t;
 }
 
-double point_elevation_deg(const Vec3& p) { return std::atan2(p.z(), std::hypot(p.x(), p.y())) * 180.0 / M_PI; }
+double point_elevation_deg(const Vec3& p) {
+  return std::atan2(p.z(), std::hypot(p.x(), p.y())) * 180.0 / M_PI;
+}
 
 RangeImage project(const std::vector<Vec3>& points, const SensorConfig& sensor) {
   RangeImage img;

@@ -14,7 +14,7 @@ namespace dloam {
 struct RangeImage {
   int rows = 0;
   int cols = 0;
-  std::vector<float> range;       ///< rows*cols, 0 where no point
+  std::vector<float> range;         ///< rows*cols, 0 where no point
   std::vector<int> point_of_pixel;  ///< rows*cols, index of the (nearest) point, -1 where none
   std::vector<int> row_of_point;    ///< per input point, -1 when outside FOV / range limits
   std::vector<int> col_of_point;    ///< per input point, -1 when outside FOV / range limits

@@ -51,19 +51,38 @@ bool neighbourhood(const KdTree& tree, const Vec3& q, const RegistrationParams& 
     const Vec3 d = pts[idx[i]] - mean;
     cov += d * d.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov / static_cast<double>(found));
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(cov / static_cast<double>(found));
   out = {mean, es.eigenvalues(), es.eigenvectors()};
   return true;
 }
 
-Term edge_term(const Vec3& q, double w, const KdTree& tree, const RegistrationParams& p) {
-  Term t;
+/// A feature's correspondence: the line (edge) or plane fitted to its neighbours in the target.
+struct Association {
+  bool valid = false;
+  Vec3 mean = Vec3::Zero();
+  Vec3 direction = Vec3::Zero();  ///< line direction (edge) or plane normal (plane)
+};
+
+Association associate_edge(const Vec3& q, const KdTree& tree, const RegistrationParams& p) {
   Neighbourhood n;
-  if (!neighbourhood(tree, q, p, n)) return t;
-  if (n.eigenvalues(2) < 3.0 * n.eigenvalues(1)) return t;  // neighbours do not form a line
-  const Vec3 d = n.eigenvectors.col(2);
-  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - d * d.transpose();
-  const Vec3 r = P * (q - n.mean);
+  if (!neighbourhood(tree, q, p, n)) return {};
+  if (n.eigenvalues(2) < 3.0 * n.eigenvalues(1)) return {};  // neighbours do not form a line
+  return {true, n.mean, n.eigenvectors.col(2)};
+}
+
+Association associate_plane(const Vec3& q, const KdTree& tree, const RegistrationParams& p) {
+  Neighbourhood n;
+  if (!neighbourhood(tree, q, p, n)) return {};
+  // A plane: the smallest spread is small both absolutely and relative to the others.
+  if (n.eigenvalues(0) > 0.01 || n.eigenvalues(0) > 0.1 * n.eigenvalues(1)) return {};
+  return {true, n.mean, n.eigenvectors.col(0)};
+}
+
+Term edge_term(const Vec3& q, double w, const Association& a, const RegistrationParams& p) {
+  Term t;
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - a.direction * a.direction.transpose();
+  const Vec3 r = P * (q - a.mean);
   const Mat36 J = P * point_jacobian(q);
   t.residual = r.norm();
   const double ww = w * huber_weight(t.residual, p.huber);
@@ -72,15 +91,10 @@ Term edge_term(const Vec3& q, double w, const KdTree& tree, const RegistrationPa
   return t;
 }
 
-Term plane_term(const Vec3& q, double w, const KdTree& tree, const RegistrationParams& p) {
+Term plane_term(const Vec3& q, double w, const Association& a, const RegistrationParams& p) {
   Term t;
-  Neighbourhood n;
-  if (!neighbourhood(tree, q, p, n)) return t;
-  // A plane: the smallest spread is small both absolutely and relative to the others.
-  if (n.eigenvalues(0) > 0.01 || n.eigenvalues(0) > 0.1 * n.eigenvalues(1)) return t;
-  const Vec3 normal = n.eigenvectors.col(0);
-  const double r = normal.dot(q - n.mean);
-  const Vec6Row J = normal.transpose() * point_jacobian(q);
+  const double r = a.direction.dot(q - a.mean);
+  const Vec6Row J = a.direction.transpose() * point_jacobian(q);
   t.residual = std::abs(r);
   const double ww = w * huber_weight(t.residual, p.huber);
   t.H = ww * J.transpose() * J;
@@ -102,18 +116,29 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     if (params.dof[static_cast<std::size_t>(i)]) free.push_back(i);
   const auto nf = static_cast<Eigen::Index>(free.size());
 
+  std::vector<Association> assoc(n);
+  Pose associated_at;  // pose of the last association
   for (int it = 0; it < params.max_iterations; ++it) {
     res.iterations = it + 1;
     const Pose T = res.T;
+    // Nearest-neighbour search only when the pose moved since the last association; once the
+    // estimate settles, iterations re-linearise against the same lines and planes.
+    const Pose moved = associated_at.inverse() * T;
+    const bool reassociate = it == 0 || moved.translation().norm() > params.reassociate_translation ||
+                             rotation_angle(moved) > params.reassociate_rotation;
+    if (reassociate) associated_at = T;
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      if (i < ne) {
-        const double w = src.edge_weights.empty() ? 1.0 : src.edge_weights[i];
-        terms[i] = w > 0.0 ? edge_term(T * src.edges[i], w, target.edges, params) : Term{};
-      } else {
-        const std::size_t j = i - ne;
-        const double w = src.plane_weights.empty() ? 1.0 : src.plane_weights[j];
-        terms[i] = w > 0.0 ? plane_term(T * src.planes[j], w, target.planes, params) : Term{};
-      }
+      const bool edge = i < ne;
+      const auto& weights = edge ? src.edge_weights : src.plane_weights;
+      const std::size_t j = edge ? i : i - ne;
+      const double w = weights.empty() ? 1.0 : weights[j];
+      terms[i] = Term{};
+      if (w <= 0.0) return;
+      const Vec3 q = T * (edge ? src.edges[j] : src.planes[j]);
+      if (reassociate)
+        assoc[i] = edge ? associate_edge(q, target.edges, params) : associate_plane(q, target.planes, params);
+      if (assoc[i].valid)
+        terms[i] = edge ? edge_term(q, w, assoc[i], params) : plane_term(q, w, assoc[i], params);
     });
     // Sequential sum: the result does not depend on the thread schedule.
     Mat6 H = Mat6::Zero();
@@ -135,7 +160,8 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     Eigen::VectorXd gs(nf);
     for (Eigen::Index a = 0; a < nf; ++a) {
       gs(a) = g(free[static_cast<std::size_t>(a)]);
-      for (Eigen::Index b = 0; b < nf; ++b) Hs(a, b) = H(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
+      for (Eigen::Index b = 0; b < nf; ++b)
+        Hs(a, b) = H(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
     }
     // Solve in the eigenbasis and leave out directions the geometry does not constrain (LOAM).
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs);
@@ -153,7 +179,8 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     Vec6 delta = Vec6::Zero();
     for (Eigen::Index a = 0; a < nf; ++a) delta(free[static_cast<std::size_t>(a)]) = ds(a);
     res.T = normalized(exp_se3(delta) * res.T);
-    if (delta.head<3>().norm() < params.convergence_rotation && delta.tail<3>().norm() < params.convergence_translation)
+    if (delta.head<3>().norm() < params.convergence_rotation &&
+        delta.tail<3>().norm() < params.convergence_translation)
       break;
   }
   res.residuals.resize(n);

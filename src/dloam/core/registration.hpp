@@ -37,10 +37,13 @@ struct RegistrationParams {
   int max_iterations = 20;
   double max_correspondence = 1.0;  ///< m: neighbours farther than this give no residual
   int neighbours = 5;
-  double huber = 0.1;               ///< m: robust kernel width
-  double degeneracy_eigenvalue = 50.0;  ///< eigenvalues of J^T J below this are not updated
-  double convergence_rotation = 1e-5;    ///< rad
-  double convergence_translation = 1e-4; ///< m
+  double huber = 0.1;                     ///< m: robust kernel width
+  double degeneracy_eigenvalue = 50.0;    ///< eigenvalues of J^T J below this are not updated
+  double convergence_rotation = 1e-5;     ///< rad
+  double convergence_translation = 1e-4;  ///< m
+  /// Nearest neighbours are searched again when the pose moved more than this since the last search.
+  double reassociate_translation = 0.01;  ///< m
+  double reassociate_rotation = 0.001;    ///< rad
   DofMask dof = kAllDof;
 };
 

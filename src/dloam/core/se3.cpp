@@ -11,7 +11,8 @@ Eigen::Matrix3d left_jacobian(const Vec3& w) {
   const Eigen::Matrix3d W = hat(w);
   if (theta < 1e-9) return Eigen::Matrix3d::Identity() + 0.5 * W;
   const double t2 = theta * theta;
-  return Eigen::Matrix3d::Identity() + (1.0 - std::cos(theta)) / t2 * W + (theta - std::sin(theta)) / (t2 * theta) * W * W;
+  return Eigen::Matrix3d::Identity() + (1.0 - std::cos(theta)) / t2 * W +
+         (theta - std::sin(theta)) / (t2 * theta) * W * W;
 }
 }  // namespace
 
@@ -20,7 +21,8 @@ Pose exp_se3(const Vec6& xi) {
   const Vec3 v = xi.tail<3>();
   Pose T = Pose::Identity();
   const double theta = w.norm();
-  T.linear() = theta < 1e-12 ? Eigen::Matrix3d::Identity() : Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
+  T.linear() =
+      theta < 1e-12 ? Eigen::Matrix3d::Identity() : Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
   T.translation() = left_jacobian(w) * v;
   return T;
 }

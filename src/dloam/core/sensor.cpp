@@ -71,7 +71,9 @@ std::string upper(std::string s) {
 }
 }  // namespace
 
-std::vector<std::string> sensor_preset_names() { return {"HDL-64E", "HDL-32E", "VLP-16", "OS1-64", "OS1-128"}; }
+std::vector<std::string> sensor_preset_names() {
+  return {"HDL-64E", "HDL-32E", "VLP-16", "OS1-64", "OS1-128"};
+}
 
 SensorConfig sensor_preset(const std::string& name) {
   SensorConfig s;

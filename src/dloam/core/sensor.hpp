@@ -8,8 +8,8 @@ namespace dloam {
 
 struct SensorConfig {
   std::string preset = "HDL-64E";
-  int N_scan = 64;         ///< number of beams (range-image rows)
-  int Horizon_SCAN = 2048; ///< range-image columns, 2*pi / R_horiz
+  int N_scan = 64;          ///< number of beams (range-image rows)
+  int Horizon_SCAN = 2048;  ///< range-image columns, 2*pi / R_horiz
   /// Beam elevations in degrees, bottom beam first (row 0). Empty: uniform between
   /// Pit_bottom and fov_top with R_vert = (fov_top - Pit_bottom) / (N_scan - 1).
   std::vector<double> beam_elevations_deg;

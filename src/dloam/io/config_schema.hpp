@@ -79,8 +79,9 @@ template <class V>
 void visit(DetectionConfig& c, V& v) {
   v("detector", c.detector, "dynamic-object detector: none | geometric | cnn (III.D.3)",
     Choices{"none", "geometric", "cnn"});
-  v("v_static", c.v_static, "static if range speed |r_k - r_k-1| (eq. 13) is below this", at_least(0));
-  v("v_ground", c.v_ground, "ground re-verification speed threshold (eq. 13)", at_least(0));
+  v("v_static", c.v_static, "static if range speed |r_k - r_k-1| (eq. 13, m per scan) is below this",
+    at_least(0));
+  v("v_ground", c.v_ground, "ground re-verification speed threshold (eq. 13, m per scan)", at_least(0));
   v("alpha", c.alpha, "a cluster with less than alpha static points is dynamic", within(0, 1));
   v("N_min_dynamic", c.N_min_dynamic, "clusters with fewer pixels of known speed stay static", at_least(1));
   v("pseudo_static", c.pseudo_static, "track previous labels of objects (stop-and-go, pseudo-static)",

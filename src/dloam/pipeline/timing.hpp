@@ -20,9 +20,11 @@ struct ModuleTimes {
 /// Adds the elapsed time to `times[m]` when it goes out of scope.
 class ScopedTimer {
  public:
-  ScopedTimer(ModuleTimes& times, Module m) : times_(times), m_(m), start_(std::chrono::steady_clock::now()) {}
+  ScopedTimer(ModuleTimes& times, Module m)
+      : times_(times), m_(m), start_(std::chrono::steady_clock::now()) {}
   ~ScopedTimer() {
-    times_[m_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+    times_[m_] +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
   }
   ScopedTimer(const ScopedTimer&) = delete;
   ScopedTimer& operator=(const ScopedTimer&) = delete;

@@ -1,0 +1,90 @@
+// Cost of the dynamic-object detection pieces on two real HDL-64E scans (kitti-raw-0005, scans
+// 10 and 11): object extraction (PCA, eqs. 8-11), pre-registration (T_coarse), the speed matrix
+// (eq. 13) and the cluster detector, and the whole DynamicStage as the pipeline calls it.
+#include <benchmark/benchmark.h>
+
+#include "dloam/core/deskew.hpp"
+#include "dloam/core/preprocess.hpp"
+#include "dloam/core/speed_matrix.hpp"
+#include "dloam/io/config_yaml.hpp"
+#include "dloam/io/kitti.hpp"
+#include "dloam/pipeline/dynamic_stage.hpp"
+
+using namespace dloam;
+
+namespace {
+
+struct Data {
+  PipelineConfig cfg;
+  std::vector<Vec3> raw[2];
+  std::vector<double> times[2];
+  SegmentationResult seg[2];
+  Pose motion = Pose::Identity();
+};
+
+const Data& data() {
+  static const Data d = [] {
+    Data x;
+    x.cfg = io::default_config("HDL-64E");  // as config/kitti-raw.yaml
+    x.cfg.sensor.vertical_angle_correction_deg = 0.22;
+    x.cfg.detection.detector = "geometric";
+    const io::Sequence seq = io::open_sequence(DLOAM_KITTI_0005);
+    const auto poses = seq.lidar_poses();
+    x.motion = poses[10].inverse() * poses[11];
+    for (int k = 0; k < 2; ++k) {
+      const PointCloud c = seq.read_scan(10 + static_cast<std::size_t>(k));
+      x.raw[k] = c.xyz;
+      correct_vertical_angle(x.raw[k], x.cfg.sensor.vertical_angle_correction_deg);
+      x.times[k] = point_times(c, false);
+      x.seg[k] = segment(deskew(x.raw[k], x.times[k], x.motion), x.cfg.sensor, x.cfg.segmentation);
+    }
+    return x;
+  }();
+  return d;
+}
+
+void BM_ExtractObjects(benchmark::State& st) {
+  const Data& d = data();
+  const auto pts = deskew(d.raw[1], d.times[1], d.motion);
+  for (auto _ : st) benchmark::DoNotOptimize(extract_objects(pts, d.seg[1], d.cfg.preregistration));
+}
+
+void BM_CoarseMotion(benchmark::State& st) {
+  const Data& d = data();
+  const ObjectSet prev =
+      extract_objects(deskew(d.raw[0], d.times[0], d.motion), d.seg[0], d.cfg.preregistration);
+  const ObjectSet cur =
+      extract_objects(deskew(d.raw[1], d.times[1], d.motion), d.seg[1], d.cfg.preregistration);
+  FeatureMap target;
+  target.edges.build(prev.poles);
+  target.planes.build(prev.planes);
+  for (auto _ : st) benchmark::DoNotOptimize(coarse_motion(cur, target, d.motion, d.cfg.preregistration));
+}
+
+void BM_SpeedMatrixAndDetector(benchmark::State& st) {
+  const Data& d = data();
+  const auto cur = deskew(d.raw[1], d.times[1], d.motion);
+  for (auto _ : st) {
+    const SpeedMatrix S =
+        compute_speed_matrix(d.seg[1].image, cur, d.motion, d.seg[0].image.range, d.cfg.sensor);
+    benchmark::DoNotOptimize(detect_dynamic(d.seg[1], S, d.cfg.detection));
+  }
+}
+
+void BM_DynamicStage(benchmark::State& st) {
+  const Data& d = data();
+  for (auto _ : st) {
+    DynamicStage stage(d.cfg);
+    stage.process(d.raw[0], d.times[0], deskew(d.raw[0], d.times[0], d.motion), d.seg[0], d.motion);
+    benchmark::DoNotOptimize(
+        stage.process(d.raw[1], d.times[1], deskew(d.raw[1], d.times[1], d.motion), d.seg[1], d.motion));
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_ExtractObjects)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CoarseMotion)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SpeedMatrixAndDetector)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DynamicStage)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

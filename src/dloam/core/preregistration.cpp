@@ -1,0 +1,125 @@
+#include "dloam/core/preregistration.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "dloam/core/voxel_grid.hpp"
+
+namespace dloam {
+
+Pca principal_components(const std::vector<Vec3>& points) {
+  Pca out;
+  if (points.size() < 3) return out;
+  Vec3 mean = Vec3::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);  // ascending eigenvalues
+  const Vec3 ev = es.eigenvalues().cwiseMax(0.0);
+  const double sum = ev.sum();
+  if (!(sum > 0.0)) return out;
+  out.lambda = Vec3(ev(2), ev(1), ev(0)) / sum;
+  out.e1 = es.eigenvectors().col(2);
+  out.e2 = es.eigenvectors().col(1);
+  out.e3 = es.eigenvectors().col(0);
+  return out;
+}
+
+ObjectShape classify_object(const std::vector<Vec3>& points, const Vec3& ground_normal,
+                            const PreRegistrationConfig& c) {
+  if (static_cast<int>(points.size()) < c.N_PCA) return ObjectShape::kOther;
+  const Pca pca = principal_components(points);
+  const Vec3 n = ground_normal.normalized();
+  if (pca.lambda(0) > c.xi_1 && pca.lambda(1) < c.xi_2 && std::abs(pca.e1.dot(n)) > c.xi_3)
+    return ObjectShape::kPole;
+  if (pca.lambda(2) < c.xi_4 && pca.lambda(1) >= c.xi_2 && std::abs(pca.e3.dot(n)) < c.xi_5)
+    return ObjectShape::kPlane;
+  return ObjectShape::kOther;
+}
+
+ObjectSet extract_objects(const std::vector<Vec3>& points, const SegmentationResult& seg,
+                          const PreRegistrationConfig& config, double leaf) {
+  ObjectSet out;
+  std::vector<std::vector<Vec3>> clusters(static_cast<std::size_t>(seg.num_clusters) + 1);
+  for (std::size_t px = 0; px < seg.pixel_label.size(); ++px) {
+    const int l = seg.pixel_label[px];
+    const int i = seg.image.point_of_pixel[px];
+    if (l > 0 && i >= 0) clusters[static_cast<std::size_t>(l)].push_back(points[static_cast<std::size_t>(i)]);
+  }
+  for (const auto& cl : clusters) {
+    const ObjectShape s = classify_object(cl, seg.ground_normal, config);
+    if (s == ObjectShape::kPole) {
+      out.poles.insert(out.poles.end(), cl.begin(), cl.end());
+      ++out.num_poles;
+    } else if (s == ObjectShape::kPlane) {
+      out.planes.insert(out.planes.end(), cl.begin(), cl.end());
+      ++out.num_planes;
+    }
+  }
+  out.poles = voxel_downsample_points(out.poles, 0.5 * leaf);  // thin objects: keep more of them
+  out.planes = voxel_downsample_points(out.planes, leaf);
+  return out;
+}
+
+namespace {
+/// Every k-th point so that at most `max_points` remain (deterministic).
+std::vector<Vec3> thin(const std::vector<Vec3>& v, std::size_t max_points) {
+  if (v.size() <= max_points) return v;
+  const std::size_t step = (v.size() + max_points - 1) / max_points;
+  std::vector<Vec3> out;
+  for (std::size_t i = 0; i < v.size(); i += step) out.push_back(v[i]);
+  return out;
+}
+}  // namespace
+
+CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap& target, const Pose& initial,
+                                  int iterations, double trim_ratio, const RegistrationParams& params) {
+  CoarseResult out;
+  out.T = initial;
+  FeatureSource src = source;
+  const std::size_t ne = src.edges.size(), n = ne + src.planes.size();
+  if (src.edge_weights.empty()) src.edge_weights.assign(ne, 1.0);
+  if (src.plane_weights.empty()) src.plane_weights.assign(n - ne, 1.0);
+  auto weight = [&](std::size_t i) -> double& {
+    return i < ne ? src.edge_weights[i] : src.plane_weights[i - ne];
+  };
+  std::vector<std::size_t> active;
+  for (std::size_t i = 0; i < n; ++i)
+    if (weight(i) > 0.0) active.push_back(i);
+  for (int it = 0; it < iterations && !active.empty(); ++it) {
+    const RegistrationResult r = register_features(src, target, out.T, params);
+    out.T = r.T;
+    out.matches = r.edge_matches + r.plane_matches;
+    if (it + 1 == iterations) break;
+    // Drop the worst trim_ratio of the active points: unmatched first, then the largest residuals.
+    auto bad = [&](std::size_t i) { return r.residuals[i] < 0.0 ? 1e30 : r.residuals[i]; };
+    const auto drop = static_cast<std::size_t>(std::ceil(trim_ratio * static_cast<double>(active.size())));
+    std::stable_sort(active.begin(), active.end(),
+                     [&](std::size_t a, std::size_t b) { return bad(a) > bad(b); });
+    for (std::size_t k = 0; k < drop && k < active.size(); ++k) weight(active[k]) = 0.0;
+    active.erase(active.begin(), active.begin() + static_cast<long>(std::min(drop, active.size())));
+    std::sort(active.begin(), active.end());
+  }
+  out.kept = active.size();
+  out.valid = out.matches >= 30;
+  return out;
+}
+
+CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
+                           const PreRegistrationConfig& config) {
+  RegistrationParams p;
+  p.max_iterations = 4;  // per round; the rounds continue from the previous estimate
+  p.max_correspondence = 1.0;
+  p.huber = 0.2;
+  // The source needs only a few hundred points per object type; the target keeps all.
+  FeatureSource src{thin(current.poles, 400), thin(current.planes, 600), {}, {}};
+  CoarseResult r =
+      trimmed_registration(src, target, predicted, std::max(1, config.N_coarse), config.trim_ratio, p);
+  if (!r.valid) r.T = predicted;
+  return r;
+}
+
+}  // namespace dloam

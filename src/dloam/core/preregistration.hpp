@@ -1,0 +1,60 @@
+// Pre-registration (paper III.D.1): PCA of the segmented clusters picks static-looking vertical
+// reference objects, pole-like (eqs. 8-9) and vertical planes (eqs. 10-11); a trimmed ICP run
+// N_coarse times between the object sets of adjacent scans, each time discarding the worst
+// trim_ratio of the correspondences, gives the coarse inter-scan motion T_coarse.
+#pragma once
+
+#include <vector>
+
+#include "dloam/core/registration.hpp"
+#include "dloam/core/segmentation.hpp"
+#include "dloam/pipeline/config.hpp"
+
+namespace dloam {
+
+enum class ObjectShape { kOther, kPole, kPlane };
+
+/// PCA of a point set: eigenvalues normalised to sum 1, descending (lambda_1 >= lambda_2 >= lambda_3),
+/// and the matching unit eigenvectors e_1, e_2, e_3.
+struct Pca {
+  Vec3 lambda = Vec3::Zero();
+  Vec3 e1 = Vec3::UnitX(), e2 = Vec3::UnitY(), e3 = Vec3::UnitZ();
+};
+Pca principal_components(const std::vector<Vec3>& points);
+
+/// Eqs. 8-11 with the normalised eigenvalues: a pole has lambda_1 > xi_1, lambda_2 < xi_2 and
+/// |e_1 . n| > xi_3; a vertical plane has lambda_3 < xi_4, lambda_2 >= xi_2 (not a line) and a
+/// horizontal normal, |e_3 . n| < xi_5. Fewer than N_PCA points: kOther.
+ObjectShape classify_object(const std::vector<Vec3>& points, const Vec3& ground_normal,
+                            const PreRegistrationConfig& config);
+
+/// The object set O of a scan: points (one per range-image pixel, voxel-downsampled with `leaf`)
+/// of the clusters classified as poles (edges of the ICP) and vertical planes (planes).
+struct ObjectSet {
+  std::vector<Vec3> poles;
+  std::vector<Vec3> planes;
+  int num_poles = 0, num_planes = 0;  ///< classified clusters
+  [[nodiscard]] std::size_t size() const { return poles.size() + planes.size(); }
+};
+ObjectSet extract_objects(const std::vector<Vec3>& points, const SegmentationResult& seg,
+                          const PreRegistrationConfig& config, double leaf = 0.3);
+
+struct CoarseResult {
+  Pose T = Pose::Identity();  ///< source (current scan) -> target (previous scan)
+  bool valid = false;         ///< enough matched, non-degenerate correspondences
+  int matches = 0;            ///< matched correspondences at the last iteration
+  std::size_t kept = 0;       ///< source points left after trimming
+};
+
+/// Trimmed ICP (the paper's "RANSAC" of pre-registration): `iterations` rounds of point-to-line /
+/// point-to-plane registration (registration.hpp) from `initial`; after each round the worst
+/// `trim_ratio` of the still-used source points (unmatched first, then largest residual) are dropped.
+CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap& target, const Pose& initial,
+                                  int iterations, double trim_ratio, const RegistrationParams& params);
+
+/// T_coarse between the object sets of the current scan and of the previous one (`target`, built
+/// from the previous ObjectSet), starting from the constant-velocity prediction.
+CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
+                           const PreRegistrationConfig& config);
+
+}  // namespace dloam

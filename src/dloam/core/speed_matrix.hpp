@@ -1,0 +1,37 @@
+// Speed matrix (paper eq. 13): the current scan, de-skewed and moved into the previous scan's
+// frame (P^{k->k-1}), is projected with eqs. 4-5 onto the previous scan's range image P^{k-1}_{U,V};
+// each pixel's speed is the range difference s = |r^k - r^{k-1}| (metres per scan). The two
+// projections do not fall on the same pixel centres: on surfaces seen at a grazing angle (the
+// ground, walls along the street) one pixel of offset changes the range by decimetres. So r^{k-1}
+// is the interval spanned by the 2x2 previous pixels bracketing the point's direction, and s is
+// the distance of r^k to that interval (0 inside it): a smooth static surface gives ~0, a point in
+// previously free space (or behind a previously seen surface) its full range change.
+#pragma once
+
+#include <vector>
+
+#include "dloam/core/range_image.hpp"
+#include "dloam/core/sensor.hpp"
+#include "dloam/core/types.hpp"
+
+namespace dloam {
+
+struct SpeedMatrix {
+  int rows = 0, cols = 0;
+  /// Per pixel of the CURRENT range image: |r^k - r^{k-1}| (m per scan), or -1 when unknown (no
+  /// current point, or no previous return around where it lands).
+  std::vector<float> speed;
+  /// Per pixel of the current image: the pixel of the previous image it lands in, or -1.
+  std::vector<int> previous_pixel;
+  [[nodiscard]] bool known(int px) const { return speed[static_cast<std::size_t>(px)] >= 0.0f; }
+};
+
+/// `current`: range image of `current_points` (both in the current frame, de-skewed);
+/// `current_to_previous`: T^{k->k-1}; `previous_range`: the range channel (rows*cols, 0 = empty) of
+/// the de-skewed previous scan's image in its own frame. Both must have the sensor's size; throws
+/// InputError otherwise.
+SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Vec3>& current_points,
+                                 const Pose& current_to_previous, const std::vector<float>& previous_range,
+                                 const SensorConfig& sensor);
+
+}  // namespace dloam
