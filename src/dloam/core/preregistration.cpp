@@ -79,13 +79,9 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
                                   int iterations, double trim_ratio, const RegistrationParams& params) {
   CoarseResult out;
   out.T = initial;
-  FeatureSource src = source;
-  const std::size_t ne = src.edges.size(), n = ne + src.planes.size();
-  if (src.edge_weights.empty()) src.edge_weights.assign(ne, 1.0);
-  if (src.plane_weights.empty()) src.plane_weights.assign(n - ne, 1.0);
-  auto weight = [&](std::size_t i) -> double& {
-    return i < ne ? src.edge_weights[i] : src.plane_weights[i - ne];
-  };
+  FeatureSource src = with_unit_weights(source);
+  const std::size_t n = src.edges.size() + src.planes.size();
+  auto weight = [&](std::size_t i) -> double& { return feature_weight(src, i); };
   std::vector<std::size_t> active;
   for (std::size_t i = 0; i < n; ++i)
     if (weight(i) > 0.0) active.push_back(i);

@@ -7,13 +7,9 @@ namespace dloam {
 
 RejectionResult reject_pseudo_static(const FeatureSource& source, const Pose& initial, int N_pseudo,
                                      double beta, double inlier_distance, const PoseEstimator& estimate) {
-  FeatureSource src = source;
-  const std::size_t ne = src.edges.size(), n = ne + src.planes.size();
-  if (src.edge_weights.empty()) src.edge_weights.assign(ne, 1.0);
-  if (src.plane_weights.empty()) src.plane_weights.assign(n - ne, 1.0);
-  auto weight = [&](std::size_t i) -> double& {
-    return i < ne ? src.edge_weights[i] : src.plane_weights[i - ne];
-  };
+  FeatureSource src = with_unit_weights(source);
+  const std::size_t n = src.edges.size() + src.planes.size();
+  auto weight = [&](std::size_t i) -> double& { return feature_weight(src, i); };
 
   RejectionResult out;
   out.kept.assign(n, 1);

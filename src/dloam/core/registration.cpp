@@ -104,6 +104,12 @@ Term plane_term(const Vec3& q, double w, const Association& a, const Registratio
 
 }  // namespace
 
+FeatureSource with_unit_weights(FeatureSource src) {
+  if (src.edge_weights.empty()) src.edge_weights.assign(src.edges.size(), 1.0);
+  if (src.plane_weights.empty()) src.plane_weights.assign(src.planes.size(), 1.0);
+  return src;
+}
+
 RegistrationResult register_features(const FeatureSource& src, const FeatureMap& target, const Pose& initial,
                                      const RegistrationParams& params) {
   RegistrationResult res;

@@ -27,6 +27,13 @@ struct FeatureSource {
   std::vector<double> plane_weights;
 };
 
+/// `src` with every empty weight vector filled with 1, so features can be switched off one by one.
+FeatureSource with_unit_weights(FeatureSource src);
+/// The weight of feature i of a source from with_unit_weights (edges first, then planes).
+inline double& feature_weight(FeatureSource& src, std::size_t i) {
+  return i < src.edges.size() ? src.edge_weights[i] : src.plane_weights[i - src.edges.size()];
+}
+
 /// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order).
 using DofMask = std::array<bool, 6>;
 inline constexpr DofMask kAllDof = {true, true, true, true, true, true};
