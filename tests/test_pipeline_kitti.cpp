@@ -68,3 +68,9 @@ TEST(PipelineKitti, DeterministicAndDeskewHelps) {
   std::printf("first 40 scans: t_rel %.3f %% with de-skew, %.3f %% without\n", with, without);
   EXPECT_LT(with, without);
 }
+
+TEST(Pipeline, RefusesTheCnnDetectorUntilItExists) {
+  PipelineConfig cfg;
+  cfg.detection.detector = "cnn";
+  EXPECT_THROW(Pipeline{cfg}, std::invalid_argument);
+}

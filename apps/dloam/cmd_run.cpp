@@ -216,7 +216,7 @@ void register_run(CLI::App& app) {
   cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
-  cmd->add_option("--detector", args->detector, "dynamic-object detector")
+  cmd->add_option("--detector", args->detector, "dynamic-object detector (cnn: not available yet)")
       ->check(CLI::IsMember({"none", "geometric", "cnn"}));
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));

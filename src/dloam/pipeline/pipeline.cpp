@@ -1,6 +1,7 @@
 #include "dloam/pipeline/pipeline.hpp"
 
 #include <numeric>
+#include <stdexcept>
 
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/features.hpp"
@@ -39,6 +40,9 @@ std::vector<std::size_t> static_points(const std::vector<Label>& labels, const S
 Pipeline::Pipeline(const PipelineConfig& config)
     : config_(config), odometry_(config.odometry), mapper_(config.mapping, config.sensor.scan_rate_hz) {
   config_.sensor.validate();
+  if (config_.detection.detector == "cnn")
+    throw std::invalid_argument(
+        "detection.detector: the CNN detector is not available yet; use none or geometric");
   if (config_.detection.detector == "geometric") dynamic_ = std::make_unique<DynamicStage>(config_);
 }
 
