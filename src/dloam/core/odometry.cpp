@@ -13,6 +13,7 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
     p.max_correspondence = config_.max_correspondence;
+    p.degeneracy_eigenvalue = 10.0;  // per 3-DoF step, as LeGO-LOAM; the sharp sets are small
 
     auto two_step = [&](const FeatureSource& src, const Pose& initial) {
       FeatureSource planes_only{{}, src.planes, {}, src.plane_weights};
