@@ -26,6 +26,21 @@ void check_rotation(const std::string& path, std::size_t line, const Pose& pose)
                 ", det = " + std::to_string(pose.linear().determinant()) + ")");
 }
 
+/// Calls `row(values, line_number, line)` for every non-blank, non-comment line of `path`; a line
+/// that is not `count` numbers is an InputError "expected <what>, got N" naming file and line.
+template <class Row>
+void for_each_row(const std::string& path, std::size_t count, const std::string& what, Row&& row) {
+  const auto lines = detail::read_lines(path);
+  std::vector<double> v;
+  std::string error;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (detail::is_blank_or_comment(lines[i])) continue;
+    if (!detail::parse_doubles(lines[i], v, error)) fail_at(path, i + 1, error);
+    if (v.size() != count) fail_at(path, i + 1, "expected " + what + ", got " + std::to_string(v.size()));
+    row(v, i + 1, lines[i]);
+  }
+}
+
 std::string row_major_line(const Pose& pose) {
   std::string line;
   for (int r = 0; r < 3; ++r)
@@ -139,17 +154,11 @@ void write_calib(const std::string& path, const Calib& calib) {
 
 std::vector<Pose> read_kitti_poses(const std::string& path) {
   std::vector<Pose> poses;
-  const auto lines = detail::read_lines(path);
-  std::vector<double> v;
-  std::string error;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (detail::is_blank_or_comment(lines[i])) continue;
-    if (!detail::parse_doubles(lines[i], v, error)) fail_at(path, i + 1, error);
-    if (v.size() != 12)
-      fail_at(path, i + 1, "expected 12 numbers (3x4 row-major pose), got " + std::to_string(v.size()));
-    poses.push_back(detail::pose_from_row_major(v.data()));
-    check_rotation(path, i + 1, poses.back());
-  }
+  for_each_row(path, 12, "12 numbers (3x4 row-major pose)",
+               [&](const std::vector<double>& v, std::size_t line, const std::string&) {
+                 poses.push_back(detail::pose_from_row_major(v.data()));
+                 check_rotation(path, line, poses.back());
+               });
   return poses;
 }
 
@@ -161,23 +170,18 @@ void write_kitti_poses(const std::string& path, const std::vector<Pose>& poses) 
 
 std::vector<StampedPose> read_tum_poses(const std::string& path) {
   std::vector<StampedPose> poses;
-  const auto lines = detail::read_lines(path);
-  std::vector<double> v;
-  std::string error;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (detail::is_blank_or_comment(lines[i])) continue;
-    if (!detail::parse_doubles(lines[i], v, error)) fail_at(path, i + 1, error);
-    if (v.size() != 8)
-      fail_at(path, i + 1, "expected 8 numbers (t tx ty tz qx qy qz qw), got " + std::to_string(v.size()));
-    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    if (std::abs(q.norm() - 1.0) > 1e-3)
-      fail_at(path, i + 1, "quaternion is not unit length (norm " + std::to_string(q.norm()) + ")");
-    StampedPose sp;
-    sp.t = v[0];
-    sp.pose.linear() = q.normalized().toRotationMatrix();
-    sp.pose.translation() = Vec3(v[1], v[2], v[3]);
-    poses.push_back(sp);
-  }
+  for_each_row(path, 8, "8 numbers (t tx ty tz qx qy qz qw)",
+               [&](const std::vector<double>& v, std::size_t line, const std::string&) {
+                 Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+                 if (std::abs(q.norm() - 1.0) > 1e-3)
+                   fail_at(path, line,
+                           "quaternion is not unit length (norm " + std::to_string(q.norm()) + ")");
+                 StampedPose sp;
+                 sp.t = v[0];
+                 sp.pose.linear() = q.normalized().toRotationMatrix();
+                 sp.pose.translation() = Vec3(v[1], v[2], v[3]);
+                 poses.push_back(sp);
+               });
   return poses;
 }
 
@@ -195,17 +199,12 @@ void write_tum_poses(const std::string& path, const std::vector<StampedPose>& po
 
 std::vector<double> read_times(const std::string& path) {
   std::vector<double> times;
-  const auto lines = detail::read_lines(path);
-  std::vector<double> v;
-  std::string error;
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (detail::is_blank_or_comment(lines[i])) continue;
-    if (!detail::parse_doubles(lines[i], v, error)) fail_at(path, i + 1, error);
-    if (v.size() != 1) fail_at(path, i + 1, "expected one time in seconds, got " + std::to_string(v.size()));
-    if (!times.empty() && v[0] < times.back())
-      fail_at(path, i + 1, "time " + lines[i] + " is earlier than the previous line's");
-    times.push_back(v[0]);
-  }
+  for_each_row(path, 1, "one time in seconds",
+               [&](const std::vector<double>& v, std::size_t line, const std::string& text) {
+                 if (!times.empty() && v[0] < times.back())
+                   fail_at(path, line, "time " + text + " is earlier than the previous line's");
+                 times.push_back(v[0]);
+               });
   return times;
 }
 

@@ -114,12 +114,7 @@ void add_lane_traffic(World& w, Rng& rng, const Path& lane_path, bool forward, b
 
 World make_highway_world(const ScenarioParams& params) {
   Rng static_rng(stream_seed(params.seed, 1, 0)), traffic_rng(stream_seed(params.seed, 2, 0));
-  World w;
-  w.scenario = to_string(params.kind);
-  w.ground.amplitude = params.hills >= 0.0 ? params.hills : 4.0;
-  w.ground.wavelength = 900.0;
-  w.ground.phase_x = uniform(static_rng, 0.0, 2.0 * M_PI);
-  w.ground.phase_y = uniform(static_rng, 0.0, 2.0 * M_PI);
+  World w = empty_world(params, 4.0, 900.0, static_rng);
   const double v = params.speed(), duration = params.frames * w.frame_period;
   const double margin = params.max_range + 130.0;
   const double length = v * duration + 2.0 * margin;

@@ -81,14 +81,19 @@ World make_world(const ScenarioParams& params) {
 
 namespace detail {
 
-World make_city_world(const ScenarioParams& params, bool loop) {
-  Rng static_rng(stream_seed(params.seed, 1, 0)), traffic_rng(stream_seed(params.seed, 2, 0));
+World empty_world(const ScenarioParams& params, double default_hills, double wavelength, Rng& static_rng) {
   World w;
   w.scenario = to_string(params.kind);
-  w.ground.amplitude = params.hills >= 0.0 ? params.hills : 2.0;
-  w.ground.wavelength = 420.0;
+  w.ground.amplitude = params.hills >= 0.0 ? params.hills : default_hills;
+  w.ground.wavelength = wavelength;
   w.ground.phase_x = uniform(static_rng, 0.0, 2.0 * M_PI);
   w.ground.phase_y = uniform(static_rng, 0.0, 2.0 * M_PI);
+  return w;
+}
+
+World make_city_world(const ScenarioParams& params, bool loop) {
+  Rng static_rng(stream_seed(params.seed, 1, 0)), traffic_rng(stream_seed(params.seed, 2, 0));
+  World w = empty_world(params, 2.0, 420.0, static_rng);
   const double v = params.speed();
   const double duration = params.frames * w.frame_period;
   const double drive = v * duration;

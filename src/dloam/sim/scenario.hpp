@@ -39,6 +39,9 @@ double default_ego_speed(ScenarioKind kind);
 World make_world(const ScenarioParams& params);
 
 namespace detail {
+/// A world with no objects yet: the scenario name and the ground (undulation `default_hills` m
+/// unless params.hills is given, `wavelength` m, random phases drawn from `static_rng`).
+World empty_world(const ScenarioParams& params, double default_hills, double wavelength, Rng& static_rng);
 World make_city_world(const ScenarioParams& params, bool loop);
 World make_highway_world(const ScenarioParams& params);
 }  // namespace detail
