@@ -134,3 +134,49 @@ TEST(Preregistration, CoarseMotionFallsBackToPredictionWithoutObjects) {
   EXPECT_FALSE(r.valid);
   EXPECT_TRUE(r.T.isApprox(predicted));
 }
+
+TEST(Preregistration, ForwardSearchTakesTheBestScoreAndTheSmallestTie) {
+  Vec6 xi;
+  xi << 0, 0, 0.02, 0.1, 0.05, 0;
+  const Pose initial = exp_se3(xi);
+  // A score with its maximum 1.4 m ahead of `initial`.
+  auto peak = [&](const Pose& T) { return -std::abs(T.translation().x() - initial.translation().x() - 1.4); };
+  const Pose found = search_forward_translation(initial, 3.0, 0.2, peak);
+  EXPECT_NEAR(found.translation().x() - initial.translation().x(), 1.4, 1e-9);
+  EXPECT_TRUE(found.linear().isApprox(initial.linear()));
+  EXPECT_NEAR(found.translation().y(), initial.translation().y(), 1e-12);
+  // A flat score (nothing matches): the prior itself.
+  const Pose flat = search_forward_translation(initial, 3.0, 0.2, [](const Pose&) { return 0.0; });
+  EXPECT_TRUE(flat.isApprox(initial));
+}
+
+TEST(Preregistration, ObjectsOfASegmentedSceneMatchThePerClusterClassification) {
+  // extract_objects classifies from accumulated moments; the same clusters gathered and passed to
+  // classify_object must give the same shapes.
+  std::mt19937 rng(5);
+  SegmentationResult seg;
+  std::vector<Vec3> points;
+  const std::vector<std::vector<Vec3>> objects = {
+      pole({5, 2, -1.7}, kUp, 0.1, 3.0, rng), patch({10, -3, -1.7}, {0, 6, 0}, {0, 0, 3}, 0.01, rng),
+      patch({3, 3, -1.7}, {4, 0, 0}, {0, 4, 0}, 0.01, rng), pole({-6, 4, -1.7}, kUp, 0.1, 4.0, rng)};
+  for (std::size_t c = 0; c < objects.size(); ++c)
+    for (const Vec3& p : objects[c]) {
+      seg.image.point_of_pixel.push_back(static_cast<int>(points.size()));
+      seg.pixel_label.push_back(static_cast<int>(c) + 1);
+      points.push_back(p);
+    }
+  seg.num_clusters = static_cast<int>(objects.size());
+  const PreRegistrationConfig cfg;
+  const ObjectSet set = extract_objects(points, seg, cfg);
+  int poles = 0, planes = 0;
+  for (const auto& o : objects) {
+    poles += classify_object(o, kUp, cfg) == ObjectShape::kPole;
+    planes += classify_object(o, kUp, cfg) == ObjectShape::kPlane;
+  }
+  EXPECT_EQ(poles, 2);
+  EXPECT_EQ(planes, 1);
+  EXPECT_EQ(set.num_poles, poles);
+  EXPECT_EQ(set.num_planes, planes);
+  EXPECT_GT(set.poles.size(), 50u);
+  EXPECT_GT(set.planes.size(), 50u);
+}

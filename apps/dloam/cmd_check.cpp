@@ -15,14 +15,18 @@ namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, preset;
+  std::string dir, topic, preset;
 };
 
 std::string yes_no(bool present) { return present ? "yes" : "no"; }
 
 void print_summary(const io::SequenceReport& r, const std::string& preset) {
   fmt::print("sequence      {}\n", r.dir);
-  fmt::print("scans         {} {} files, {} readable\n", r.scans, r.scan_format, r.scans_ok);
+  if (r.source.empty())
+    fmt::print("scans         {} {} files, {} readable\n", r.scans, r.scan_format, r.scans_ok);
+  else
+    fmt::print("scans         {} {} messages, {} readable\nsource        {}\n", r.scans, r.scan_format,
+               r.scans_ok, r.source);
   if (r.scans_ok > 0) {
     fmt::print("points/scan   min {}  mean {:.0f}  max {}\n", r.min_points, r.mean_points, r.max_points);
     fmt::print("point times   {}\n", r.points_with_time == r.scans_ok ? "per-point time channel in every scan"
@@ -62,10 +66,13 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
 
 void run_check(const CheckArgs& a) {
   if (!a.preset.empty()) (void)sensor_preset(a.preset);  // reject an unknown name before reading
-  const auto report = io::check_sequence(a.dir, [](const std::string& problem) {
-    fmt::print(stderr, "problem: {}\n", problem);
-    std::fflush(stderr);
-  });
+  const auto report = io::check_sequence(
+      a.dir,
+      [](const std::string& problem) {
+        fmt::print(stderr, "problem: {}\n", problem);
+        std::fflush(stderr);
+      },
+      a.topic);
   print_summary(report, a.preset);
   if (report.problems.empty()) {
     fmt::print("OK: no problems found\n");
@@ -85,8 +92,9 @@ void register_check(CLI::App& app) {
   cmd->add_option(
          "sequence", args->dir,
          "folder with velodyne/*.bin (KITTI) or *.pcd scans; optional labels/, poses.txt, calib.txt, "
-         "times.txt")
+         "times.txt; or a rosbag (.bag) of sensor_msgs/PointCloud2")
       ->required();
+  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
   cmd->add_option(
       "--preset", args->preset,
       "sensor you expect (HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128): warns if the data looks different");
@@ -95,7 +103,8 @@ void register_check(CLI::App& app) {
       "with its file name and keeps going. Exit status 0 when everything is readable and consistent.\n"
       "Examples:\n"
       "  dloam check ../shared/data/kitti-raw-0005\n"
-      "  dloam check recordings/campus_pcd --preset VLP-16");
+      "  dloam check recordings/campus_pcd --preset VLP-16\n"
+      "  dloam check drive.bag --topic /velodyne_points");
   cmd->callback([args] { run_check(*args); });
 }
 

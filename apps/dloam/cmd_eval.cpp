@@ -2,10 +2,8 @@
 // src/dloam/eval (KITTI devkit relative error, ATE, RPE; SemanticKITTI MOS IoU and the paper's
 // object-level IoU, eq. 16), prints a table and optionally writes JSON and a gnuplot PNG.
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -17,6 +15,7 @@
 #include "dloam/eval/plot.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/kitti.hpp"
+#include "gnuplot.hpp"
 #include "report.hpp"
 
 namespace dloam::app {
@@ -54,36 +53,20 @@ void write_json(const std::string& path, const json& doc) {
 
 void write_plot(const std::string& png_path, const std::vector<Pose>& gt, const std::vector<Pose>& est,
                 const eval::OdometryResult& result, bool top_view_is_xz) {
-  if (std::system("gnuplot --version > /dev/null 2>&1") != 0) {
-    throw InputError("--plot " + png_path +
-                     ": the `gnuplot` program was not found (apt install gnuplot-nox)");
-  }
-  eval::PlotOptions options;
-  options.png_path = png_path + ".tmp";
-  options.terminal =
-      std::system("gnuplot -e 'set terminal pngcairo' > /dev/null 2>&1") == 0 ? "pngcairo" : "png";
-  options.vertical_axis = top_view_is_xz ? 2 : 1;
-  options.title =
-      result.relative.segments.empty()
-          ? fmt::format("no segment   ATE {:.3f} m (aligned {:.3f} m)", result.ate.rmse,
-                        result.ate_aligned.rmse)
-          : fmt::format("t_rel {:.3f} %   r_rel {:.4f} deg/100 m   ATE {:.3f} m (aligned {:.3f} m)",
-                        result.relative.t_rel_pct, result.relative.r_rel_deg100m, result.ate.rmse,
-                        result.ate_aligned.rmse);
-  const fs::path out(png_path);
-  if (out.has_parent_path()) fs::create_directories(out.parent_path());
-  const fs::path script = fs::temp_directory_path() / fmt::format("dloam-eval-plot-{}.gp", ::getpid());
-  io::write_atomic(script.string(), [&](std::ostream& s) {
-    s << eval::odometry_plot_script(gt, est, result.relative.per_length, options);
+  render_png(png_path, [&](const std::string& tmp, const std::string& term) {
+    eval::PlotOptions options;
+    options.png_path = tmp;
+    options.terminal = term;
+    options.vertical_axis = top_view_is_xz ? 2 : 1;
+    options.title =
+        result.relative.segments.empty()
+            ? fmt::format("no segment   ATE {:.3f} m (aligned {:.3f} m)", result.ate.rmse,
+                          result.ate_aligned.rmse)
+            : fmt::format("t_rel {:.3f} %   r_rel {:.4f} deg/100 m   ATE {:.3f} m (aligned {:.3f} m)",
+                          result.relative.t_rel_pct, result.relative.r_rel_deg100m, result.ate.rmse,
+                          result.ate_aligned.rmse);
+    return eval::odometry_plot_script(gt, est, result.relative.per_length, options);
   });
-  const int status = std::system(fmt::format("gnuplot '{}' 2>&1", script.string()).c_str());
-  fs::remove(script);
-  if (status != 0 || !fs::exists(options.png_path)) {
-    fs::remove(options.png_path);
-    throw InputError("--plot " + png_path + ": gnuplot failed (exit status " + std::to_string(status) + ")");
-  }
-  fs::rename(options.png_path, png_path);
-  fmt::print("wrote {}\n", png_path);
 }
 
 void run_odometry(const OdometryArgs& args, bool lengths_given, bool step_given) {

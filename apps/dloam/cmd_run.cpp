@@ -15,8 +15,12 @@
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
+#ifdef DLOAM_WITH_TORCH
+#include "dloam/cnn/cnn_segmenter.hpp"
+#endif
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/ply.hpp"
+#include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
 #include "progress.hpp"
 #include "report.hpp"
@@ -28,7 +32,7 @@ namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
 
 struct RunArgs {
-  std::string sequence, out, config_path, preset, detector, deskew;
+  std::string sequence, topic, out, config_path, preset, detector, deskew;
   std::vector<double> lengths;
   long first = 0, count = -1;
 };
@@ -61,20 +65,6 @@ void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, cons
         file, 100.0 * inside / in_range, sensor.preset, sensor.N_scan, sensor.beam_elevation_deg(0),
         sensor.beam_elevation_deg(sensor.N_scan - 1)));
   }
-}
-
-void write_timing(const std::string& path, const std::vector<ScanResult>& results) {
-  io::write_atomic(path, [&](std::ostream& out) {
-    out << "scan";
-    for (auto name : kModuleNames) out << ',' << name << "_ms";
-    out << ",edges,planes,mapped,keyframe,loop_closed,degenerate\n";
-    for (const auto& r : results) {
-      out << r.index;
-      for (double ms : r.times.ms) out << ',' << fmt::format("{:.3f}", ms);
-      out << ',' << r.n_edges << ',' << r.n_planes << ',' << r.mapped << ',' << r.keyframe << ','
-          << r.loop_closed << ',' << r.degenerate << '\n';
-    }
-  });
 }
 
 /// Ground-truth label statistics of a run (sequence with labels/): Table III's effective-feature
@@ -127,9 +117,22 @@ void print_summary(const std::vector<ScanResult>& results) {
   fmt::print("  => {:.1f} scans/s\n", mean[Module::kTotal] > 0 ? 1000.0 / mean[Module::kTotal] : 0.0);
 }
 
+/// Resolves detector "auto" / the shipped model in `cfg` and loads the CNN when it is used.
+std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& cfg) {
+#ifdef DLOAM_WITH_TORCH
+  return cnn::prepare_detector(cfg.detection, DLOAM_MODEL_DIR);
+#else
+  if (cfg.detection.detector == "auto") cfg.detection.detector = "geometric";
+  if (cfg.detection.detector == "cnn")
+    throw std::invalid_argument("detector cnn: this dloam was built without LibTorch (DLOAM_WITH_TORCH=OFF)");
+  return nullptr;
+#endif
+}
+
 void run(const RunArgs& a) {
-  const PipelineConfig cfg = make_config(a);
-  const io::Sequence seq = io::open_sequence(a.sequence);
+  PipelineConfig cfg = make_config(a);
+  const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
+  const io::Sequence seq = io::open_sequence(a.sequence, a.topic);
   const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
   if (first >= seq.size())
     throw InputError(
@@ -143,7 +146,7 @@ void run(const RunArgs& a) {
 
   fmt::print("dloam run: {} scans of {} ({} preset, detector {}, de-skew {}) -> {}\n", last - first,
              a.sequence, cfg.sensor.preset, cfg.detection.detector, cfg.deskew.enabled ? "on" : "off", a.out);
-  Pipeline pipeline(cfg);
+  Pipeline pipeline(cfg, cnn);
   std::vector<ScanResult> results;
   std::vector<Pose> poses;
   Progress progress("run", last - first);
@@ -173,14 +176,15 @@ void run(const RunArgs& a) {
   if (g_stop)
     fmt::print(stderr, "\ninterrupted: writing outputs for the {} scans processed\n", results.size());
 
-  poses = pipeline.corrected_trajectory(poses);  // loop closures move earlier scans too
+  poses = pipeline.trajectory();  // mapping-refined, loop closures move earlier scans too
   write_trajectories(a.out, seq, poses);
-  write_timing(a.out + "/timing.csv", results);
+  io::write_timing_csv(a.out + "/timing.csv", results);
   PointCloud map;
   map.xyz = pipeline.global_map();
   io::write_ply(a.out + "/map.ply", map);
   print_summary(results);
   fmt::print("loop closures: {}\n", pipeline.loop_closures());
+  if (seq.source) fmt::print("input: {}\n", seq.source->describe());
   fmt::print("wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), timing.csv, config.yaml{}\n", a.out,
              map.size(), labels_on ? ", labels/" : "");
 
@@ -201,22 +205,24 @@ void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run the SLAM pipeline on a sequence folder");
   cmd->footer(
       "Input: a KITTI / SemanticKITTI sequence folder (velodyne/*.bin, optional labels/, poses.txt,\n"
-      "calib.txt, times.txt) or a folder of PCD files.\n"
+      "calib.txt, times.txt), a folder of PCD files, or a rosbag of sensor_msgs/PointCloud2 (--topic).\n"
       "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
       "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
       "metrics.json (when the folder has poses.txt).\n"
       "Examples:\n"
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
-      "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500");
-  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder")
+      "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
+      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16");
+  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder, or a rosbag (.bag)")
       ->required()
-      ->check(CLI::ExistingDirectory);
+      ->check(CLI::ExistingPath);
+  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
   cmd->add_option("--out,-o", args->out, "output folder")->required();
   cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
-  cmd->add_option("--detector", args->detector, "dynamic-object detector (cnn: not available yet)")
+  cmd->add_option("--detector", args->detector, "dynamic-object detector: none, geometric or cnn")
       ->check(CLI::IsMember({"none", "geometric", "cnn"}));
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));

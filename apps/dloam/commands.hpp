@@ -10,5 +10,7 @@ void register_eval(CLI::App& app);
 void register_check(CLI::App& app);
 void register_config(CLI::App& app);
 void register_run(CLI::App& app);
+void register_train(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)
+void register_sweep(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)
 
 }  // namespace dloam::app

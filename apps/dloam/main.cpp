@@ -5,6 +5,9 @@
 #include <iostream>
 
 #include "commands.hpp"
+#ifdef DLOAM_WITH_ROS
+#include "dloam/ros/bag_sequence.hpp"
+#endif
 
 int main(int argc, char** argv) {
   CLI::App app{"dloam: real-time LiDAR SLAM that keeps moving objects out of odometry and map"};
@@ -21,6 +24,13 @@ int main(int argc, char** argv) {
   dloam::app::register_check(app);
   dloam::app::register_config(app);
   dloam::app::register_run(app);
+#ifdef DLOAM_WITH_TORCH
+  dloam::app::register_train(app);
+  dloam::app::register_sweep(app);
+#endif
+#ifdef DLOAM_WITH_ROS
+  dloam::ros1::register_bag_format();  // sequences may be rosbags
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,11 +3,20 @@
 #include <cmath>
 #include <utility>
 
+#include "dloam/core/se3.hpp"
 #include "dloam/core/voxel_grid.hpp"
 
 namespace dloam {
 
-MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, const Pose& predicted) {
+bool Mapper::needs_keyframe(const Pose& pose) const {
+  if (local_.empty()) return true;
+  const Pose rel = local_.keyframes().back().pose.inverse() * pose;
+  return rel.translation().norm() >= config_.keyframe_distance ||
+         rotation_angle(rel) >= config_.keyframe_angle_deg * M_PI / 180.0;
+}
+
+MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, const Pose& predicted,
+                              std::optional<bool> keyframe) {
   MappingResult out;
   out.pose = predicted;
   // The scan's features at the map's resolution: the source of registration and of a keyframe.
@@ -23,15 +32,7 @@ MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, c
     out.registration = register_features(source, local_.around(predicted.translation()), predicted, p);
     out.pose = out.registration.T;
   }
-  // A new keyframe when far enough (or turned enough) from the last one.
-  bool add = local_.empty();
-  if (!add) {
-    const Pose& last = local_.keyframes().back().pose;
-    const Pose rel = last.inverse() * out.pose;
-    add = rel.translation().norm() >= config_.keyframe_distance ||
-          Eigen::AngleAxisd(rel.rotation()).angle() >= config_.keyframe_angle_deg * M_PI / 180.0;
-  }
-  if (add) {
+  if (keyframe.value_or(needs_keyframe(out.pose))) {
     local_.add({scan, out.pose, source.edges, source.planes});
     out.keyframe = true;
     close_loop(out);
@@ -61,6 +62,7 @@ void Mapper::close_loop(MappingResult& out) {
   options.loop_huber = 3.0;
   const std::vector<Pose> optimized = optimize_pose_graph(poses, edges_, options);
   local_.set_poses(optimized);
+  global_.move(optimized);
   out.pose = optimized[k];
   out.loop = loop;
   loops_.push_back(*loop);
@@ -83,17 +85,16 @@ std::vector<Pose> Mapper::corrected_trajectory(const std::vector<Pose>& scan_pos
   return out;
 }
 
-void Mapper::add_to_global_map(const std::vector<Vec3>& points, const Pose& pose) {
-  for (const Vec3& p : voxel_downsample_points(points, config_.map_leaf_size)) global_.push_back(pose * p);
-  // Compact when the map has doubled since the last compaction: memory stays bounded by the area.
-  if (global_.size() > 2 * compacted_size_ + 1000000) {
-    global_ = voxel_downsample_points(global_, config_.map_leaf_size);
-    compacted_size_ = global_.size();
-  }
+void Mapper::add_to_global_map(const std::vector<Vec3>& points) {
+  if (local_.empty()) return;
+  global_.add(local_.keyframes().size() - 1, points, local_.keyframes().back().pose);
 }
 
 std::vector<Vec3> Mapper::global_map() const {
-  return voxel_downsample_points(global_, config_.map_leaf_size);
+  std::vector<Pose> poses;
+  poses.reserve(local_.keyframes().size());
+  for (const Keyframe& kf : local_.keyframes()) poses.push_back(kf.pose);
+  return global_.points(poses);
 }
 
 }  // namespace dloam

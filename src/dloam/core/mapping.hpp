@@ -1,11 +1,13 @@
 // LiDAR mapping (paper III.G, LeGO-LOAM): scan-to-map registration of the current scan's F_e / F_p
 // against the local map of keyframes around the predicted pose, keyframe insertion, loop closure
 // (each new keyframe is checked against older ones; an accepted loop optimises the keyframe pose
-// graph and moves the keyframes), and the downsampled global map of static points.
+// graph and moves the keyframes and their global-map points), and the downsampled global map of
+// static points (global_map.hpp).
 #pragma once
 
 #include <optional>
 
+#include "dloam/core/global_map.hpp"
 #include "dloam/core/local_map.hpp"
 #include "dloam/core/loop_closure.hpp"
 #include "dloam/core/pose_graph.hpp"
@@ -26,13 +28,22 @@ class Mapper {
   explicit Mapper(const MappingConfig& config, double scan_rate_hz = 10.0)
       : config_(config),
         local_(config.local_map_radius, config.edge_leaf_size, config.plane_leaf_size),
-        loop_params_(loop_params(config, scan_rate_hz)) {}
+        loop_params_(loop_params(config, scan_rate_hz)),
+        global_(config.map_leaf_size) {}
 
-  /// Features in the scan's sensor frame; `predicted` world pose from the odometry. `scan` indices increase.
-  MappingResult process(std::size_t scan, const FeatureSource& features, const Pose& predicted);
+  /// Whether a scan at world pose `pose` becomes a keyframe: the first scan does, then one every
+  /// keyframe_distance metres or keyframe_angle_deg degrees from the last keyframe.
+  [[nodiscard]] bool needs_keyframe(const Pose& pose) const;
 
-  /// Adds static points of a scan (sensor frame) at its world pose to the global map.
-  void add_to_global_map(const std::vector<Vec3>& points, const Pose& pose);
+  /// Features in the scan's sensor frame; `predicted` world pose from the odometry. `scan` indices
+  /// increase. `keyframe`: whether the scan becomes a keyframe (at its registered pose); when not
+  /// given, needs_keyframe() of the registered pose decides.
+  MappingResult process(std::size_t scan, const FeatureSource& features, const Pose& predicted,
+                        std::optional<bool> keyframe = std::nullopt);
+
+  /// Adds static points (sensor frame) of the newest keyframe's scan to the global map.
+  void add_to_global_map(const std::vector<Vec3>& points);
+  /// The global map with every keyframe at its current (loop-corrected) pose, one point per voxel.
   [[nodiscard]] std::vector<Vec3> global_map() const;
   /// Keyframes with their current (loop-corrected) poses.
   [[nodiscard]] const std::vector<Keyframe>& keyframes() const { return local_.keyframes(); }
@@ -55,8 +66,7 @@ class Mapper {
   std::vector<PoseGraphEdge> edges_;  // odometry edges between consecutive keyframes, loop edges
   std::vector<Pose> reported_;        // per keyframe: the pose returned by process()
   std::vector<LoopConstraint> loops_;
-  std::vector<Vec3> global_;        // world-frame static points, compacted by voxel downsampling
-  std::size_t compacted_size_ = 0;  // size after the last compaction
+  GlobalMap global_;
 };
 
 }  // namespace dloam

@@ -2,6 +2,12 @@
 
 namespace dloam {
 
+namespace {
+/// The hysteresis holds only objects detected dynamic in this many consecutive scans (a single
+/// false detection of a static cluster is not carried on).
+constexpr int kConfirmedScans = 2;
+}  // namespace
+
 TrackResult ObjectTracker::update(const SegmentationResult& seg, const SpeedMatrix& S, DetectionResult& det,
                                   double alpha_tracked) {
   const auto m = static_cast<std::size_t>(seg.num_clusters) + 1;
@@ -9,6 +15,7 @@ TrackResult ObjectTracker::update(const SegmentationResult& seg, const SpeedMatr
   out.previous_cluster.assign(m, 0);
   out.transition.assign(m, Transition::kNone);
   out.pseudo_static.assign(seg.pixel_label.size(), 0);
+  age_.assign(m, 0);
   const bool have_previous = previous_pixel_label_.size() == seg.pixel_label.size() &&
                              S.previous_pixel.size() == seg.pixel_label.size();
   if (have_previous) {
@@ -27,11 +34,14 @@ TrackResult ObjectTracker::update(const SegmentationResult& seg, const SpeedMatr
     for (std::size_t c = 1; c < m; ++c) {
       const int best = candidate[c];
       out.previous_cluster[c] = best;
-      if (best <= 0 || static_cast<std::size_t>(best) >= previous_dynamic_.size()) continue;
-      const bool was = previous_dynamic_[static_cast<std::size_t>(best)] != 0;
+      if (best <= 0 || static_cast<std::size_t>(best) >= previous_age_.size()) continue;
+      const int age = previous_age_[static_cast<std::size_t>(best)];
+      const bool was = age > 0;
       const double f = c < det.static_fraction.size() ? det.static_fraction[c] : -1.0;
-      if (was && !det.cluster_dynamic[c] && f >= 0.0 && f < alpha_tracked) det.cluster_dynamic[c] = 1;
+      if (age >= kConfirmedScans && !det.cluster_dynamic[c] && f >= 0.0 && f < alpha_tracked)
+        det.cluster_dynamic[c] = 1;
       const bool is = det.cluster_dynamic[c] != 0;
+      if (is) age_[c] = age + 1;
       if (!was && is) out.transition[c] = Transition::kStaticToDynamic, ++out.type1;
       if (was && !is) out.transition[c] = Transition::kDynamicToStatic, ++out.type2;
     }
@@ -42,8 +52,10 @@ TrackResult ObjectTracker::update(const SegmentationResult& seg, const SpeedMatr
         out.pseudo_static[px] = 1;
     }
   }
+  for (std::size_t c = 1; c < m; ++c)
+    if (det.cluster_dynamic[c] && age_[c] == 0) age_[c] = 1;
   previous_pixel_label_ = seg.pixel_label;
-  previous_dynamic_ = det.cluster_dynamic;
+  std::swap(previous_age_, age_);
   return out;
 }
 

@@ -25,7 +25,8 @@ class ObjectTracker {
  public:
   /// Associates the current clusters with the previous scan's and classifies the transitions;
   /// then remembers this scan's clusters and labels for the next call. The first call has no
-  /// previous scan: no transitions. Hysteresis: a cluster whose object was dynamic stays dynamic
+  /// previous scan: no transitions. Hysteresis: a cluster whose object was dynamic (in at least the
+  /// last two scans) stays dynamic
   /// (det.cluster_dynamic and its pixel mask are updated) while its static fraction is below
   /// `alpha_tracked` (with at least N_min_dynamic pixels of known speed); only then does it become a type-2
   /// pseudo-static object.
@@ -34,7 +35,8 @@ class ObjectTracker {
 
  private:
   std::vector<int> previous_pixel_label_;
-  std::vector<std::uint8_t> previous_dynamic_;
+  std::vector<int> previous_age_;  ///< per previous cluster: consecutive scans dynamic (0: static)
+  std::vector<int> age_;
 };
 
 }  // namespace dloam

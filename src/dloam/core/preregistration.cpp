@@ -9,14 +9,10 @@
 
 namespace dloam {
 
-Pca principal_components(const std::vector<Vec3>& points) {
+namespace {
+/// Eigen-decomposition of a covariance into a Pca (eigenvalues normalised to sum 1, descending).
+Pca pca_of_covariance(const Eigen::Matrix3d& cov) {
   Pca out;
-  if (points.size() < 3) return out;
-  Vec3 mean = Vec3::Zero();
-  for (const auto& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);  // ascending eigenvalues
   const Vec3 ev = es.eigenvalues().cwiseMax(0.0);
   const double sum = ev.sum();
@@ -28,36 +24,69 @@ Pca principal_components(const std::vector<Vec3>& points) {
   return out;
 }
 
-ObjectShape classify_object(const std::vector<Vec3>& points, const Vec3& ground_normal,
-                            const PreRegistrationConfig& c) {
-  if (static_cast<int>(points.size()) < c.N_PCA) return ObjectShape::kOther;
-  const Pca pca = principal_components(points);
-  const Vec3 n = ground_normal.normalized();
+ObjectShape classify_pca(const Pca& pca, const Vec3& n, const PreRegistrationConfig& c) {
   if (pca.lambda(0) > c.xi_1 && pca.lambda(1) < c.xi_2 && std::abs(pca.e1.dot(n)) > c.xi_3)
     return ObjectShape::kPole;
   if (pca.lambda(2) < c.xi_4 && pca.lambda(1) >= c.xi_2 && std::abs(pca.e3.dot(n)) < c.xi_5)
     return ObjectShape::kPlane;
   return ObjectShape::kOther;
 }
+}  // namespace
+
+Pca principal_components(const std::vector<Vec3>& points) {
+  Pca out;
+  if (points.size() < 3) return out;
+  Vec3 mean = Vec3::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+  return pca_of_covariance(cov);
+}
+
+ObjectShape classify_object(const std::vector<Vec3>& points, const Vec3& ground_normal,
+                            const PreRegistrationConfig& c) {
+  if (static_cast<int>(points.size()) < c.N_PCA) return ObjectShape::kOther;
+  return classify_pca(principal_components(points), ground_normal.normalized(), c);
+}
 
 ObjectSet extract_objects(const std::vector<Vec3>& points, const SegmentationResult& seg,
                           const PreRegistrationConfig& config, double leaf) {
-  ObjectSet out;
-  std::vector<std::vector<Vec3>> clusters(static_cast<std::size_t>(seg.num_clusters) + 1);
+  // One pass accumulates each cluster's moments (count, sum, sum of outer products) for its PCA;
+  // a second gathers the points of the clusters classified as poles or planes.
+  const auto m = static_cast<std::size_t>(seg.num_clusters) + 1;
+  std::vector<int> count(m, 0);
+  std::vector<Vec3> sum(m, Vec3::Zero());
+  std::vector<Eigen::Matrix3d> outer(m, Eigen::Matrix3d::Zero());
   for (std::size_t px = 0; px < seg.pixel_label.size(); ++px) {
     const int l = seg.pixel_label[px];
     const int i = seg.image.point_of_pixel[px];
-    if (l > 0 && i >= 0) clusters[static_cast<std::size_t>(l)].push_back(points[static_cast<std::size_t>(i)]);
+    if (l <= 0 || i < 0) continue;
+    const Vec3& p = points[static_cast<std::size_t>(i)];
+    const auto c = static_cast<std::size_t>(l);
+    ++count[c];
+    sum[c] += p;
+    outer[c].selfadjointView<Eigen::Lower>().rankUpdate(p);
   }
-  for (const auto& cl : clusters) {
-    const ObjectShape s = classify_object(cl, seg.ground_normal, config);
-    if (s == ObjectShape::kPole) {
-      out.poles.insert(out.poles.end(), cl.begin(), cl.end());
-      ++out.num_poles;
-    } else if (s == ObjectShape::kPlane) {
-      out.planes.insert(out.planes.end(), cl.begin(), cl.end());
-      ++out.num_planes;
-    }
+  const Vec3 n = seg.ground_normal.normalized();
+  std::vector<ObjectShape> shape(m, ObjectShape::kOther);
+  ObjectSet out;
+  for (std::size_t c = 1; c < m; ++c) {
+    if (count[c] < std::max(3, config.N_PCA)) continue;
+    const Vec3 mean = sum[c] / count[c];
+    const Eigen::Matrix3d cov = Eigen::Matrix3d(outer[c].selfadjointView<Eigen::Lower>()) -
+                                static_cast<double>(count[c]) * mean * mean.transpose();
+    shape[c] = classify_pca(pca_of_covariance(cov), n, config);
+    out.num_poles += shape[c] == ObjectShape::kPole;
+    out.num_planes += shape[c] == ObjectShape::kPlane;
+  }
+  for (std::size_t px = 0; px < seg.pixel_label.size(); ++px) {
+    const int l = seg.pixel_label[px];
+    const int i = seg.image.point_of_pixel[px];
+    if (l <= 0 || i < 0) continue;
+    const ObjectShape s = shape[static_cast<std::size_t>(l)];
+    if (s == ObjectShape::kPole) out.poles.push_back(points[static_cast<std::size_t>(i)]);
+    if (s == ObjectShape::kPlane) out.planes.push_back(points[static_cast<std::size_t>(i)]);
   }
   out.poles = voxel_downsample_points(out.poles, 0.5 * leaf);  // thin objects: keep more of them
   out.planes = voxel_downsample_points(out.planes, leaf);
@@ -104,14 +133,33 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
   return out;
 }
 
+Pose search_forward_translation(const Pose& initial, double range, double step,
+                                const std::function<double(const Pose&)>& score) {
+  int best_k = 0;
+  double best_score = -1.0;
+  const int steps = step > 0.0 ? static_cast<int>(std::floor(range / step)) : 0;
+  for (int k = -steps; k <= steps; ++k) {
+    Pose T = initial;
+    T.translation() += Vec3(k * step, 0.0, 0.0);
+    const double s = score(T);
+    if (s > best_score || (s == best_score && std::abs(k) < std::abs(best_k))) {
+      best_score = s;
+      best_k = k;
+    }
+  }
+  Pose best = initial;
+  best.translation() += Vec3(best_k * step, 0.0, 0.0);
+  return best;
+}
+
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
                            const PreRegistrationConfig& config) {
   RegistrationParams p;
-  p.max_iterations = 4;  // per round; the rounds continue from the previous estimate
+  p.max_iterations = 2;  // per round; the rounds continue from the previous estimate
   p.max_correspondence = 1.0;
   p.huber = 0.2;
   // The source needs only a few hundred points per object type; the target keeps all.
-  FeatureSource src{thin(current.poles, 400), thin(current.planes, 600), {}, {}};
+  FeatureSource src{thin(current.poles, 300), thin(current.planes, 400), {}, {}};
   CoarseResult r =
       trimmed_registration(src, target, predicted, std::max(1, config.N_coarse), config.trim_ratio, p);
   if (!r.valid) r.T = predicted;

@@ -4,6 +4,7 @@
 // trim_ratio of the correspondences, gives the coarse inter-scan motion T_coarse.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "dloam/core/registration.hpp"
@@ -51,6 +52,12 @@ struct CoarseResult {
 /// `trim_ratio` of the still-used source points (unmatched first, then largest residual) are dropped.
 CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap& target, const Pose& initial,
                                   int iterations, double trim_ratio, const RegistrationParams& params);
+
+/// The first scan pair has no motion prior: the pose translation(dx) * `initial` (dx along the
+/// sensor's x axis, the driving direction, in [-range, range] by `step`) with the highest `score`
+/// (ties: the smallest |dx|).
+Pose search_forward_translation(const Pose& initial, double range, double step,
+                                const std::function<double(const Pose&)>& score);
 
 /// T_coarse between the object sets of the current scan and of the previous one (`target`, built
 /// from the previous ObjectSet), starting from the constant-velocity prediction.

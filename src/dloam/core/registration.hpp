@@ -34,7 +34,8 @@ inline double& feature_weight(FeatureSource& src, std::size_t i) {
   return i < src.edges.size() ? src.edge_weights[i] : src.plane_weights[i - src.edges.size()];
 }
 
-/// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order).
+/// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order, target
+/// frame axes; rotations about the current sensor position).
 using DofMask = std::array<bool, 6>;
 inline constexpr DofMask kAllDof = {true, true, true, true, true, true};
 inline constexpr DofMask kPlaneStepDof = {true, true, false, false, false, true};  ///< roll, pitch, tz

@@ -5,7 +5,9 @@
 // ground, walls along the street) one pixel of offset changes the range by decimetres. So r^{k-1}
 // is the interval spanned by the 2x2 previous pixels bracketing the point's direction, and s is
 // the distance of r^k to that interval (0 inside it): a smooth static surface gives ~0, a point in
-// previously free space (or behind a previously seen surface) its full range change.
+// previously free space (or behind a previously seen surface) its full range change. The
+// projection uses a sin(elevation) row table and a polynomial atan2 (the same pixels as eqs. 4-5
+// up to pixel borders, a few times cheaper).
 #pragma once
 
 #include <vector>
@@ -33,5 +35,14 @@ struct SpeedMatrix {
 SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Vec3>& current_points,
                                  const Pose& current_to_previous, const std::vector<float>& previous_range,
                                  const SensorConfig& sensor);
+
+/// The surface (sum of squared ranges, a pixel's footprint grows with r^2) of the cluster pixels
+/// (pixel_label > 0, every `stride`-th pixel) whose speed is known and below `v_static` with the
+/// motion `current_to_previous`: the score of a candidate motion when there is no prior (the static
+/// world is most of a scan's surface, nearby vehicles most of its pixels).
+double static_area(const RangeImage& current, const std::vector<Vec3>& current_points,
+                   const std::vector<int>& pixel_label, const Pose& current_to_previous,
+                   const std::vector<float>& previous_range, const SensorConfig& sensor, double v_static,
+                   int stride);
 
 }  // namespace dloam

@@ -66,6 +66,8 @@ void visit(PreRegistrationConfig& c, V& v) {
   v("N_coarse", c.N_coarse, "RANSAC iterations of ICP giving T_coarse", at_least(1));
   v("trim_ratio", c.trim_ratio, "worst fraction of ICP matches dropped per iteration",
     Range{0, 1, false, true});
+  v("search_range", c.search_range, "m: forward translation searched for the first scan pair's T_coarse",
+    at_least(0));
 }
 
 template <class V>
@@ -77,8 +79,9 @@ void visit(DeskewConfig& c, V& v) {
 
 template <class V>
 void visit(DetectionConfig& c, V& v) {
-  v("detector", c.detector, "dynamic-object detector: none | geometric | cnn (III.D.3)",
-    Choices{"none", "geometric", "cnn"});
+  v("detector", c.detector,
+    "dynamic-object detector: none | geometric | cnn | auto (cnn when the model file exists, else geometric)",
+    Choices{"none", "geometric", "cnn", "auto"});
   v("v_static", c.v_static, "static if range speed |r_k - r_k-1| (eq. 13, m per scan) is below this",
     at_least(0));
   v("v_ground", c.v_ground, "ground re-verification speed threshold (eq. 13, m per scan)", at_least(0));
@@ -88,10 +91,12 @@ void visit(DetectionConfig& c, V& v) {
     Range{});
   v("alpha_tracked", c.alpha_tracked, "a tracked dynamic object stays dynamic below this static fraction",
     within(0, 1));
-  v("m", c.m, "CNN: number of recent speed/residual images in the input bag", within(1, 64));
-  v("model_path", c.model_path, "CNN: checkpoint written by `dloam train`", Choices{});
+  v("m", c.m, "CNN: number of recent speed images in the range image bag", within(0, 64));
+  v("model_path", c.model_path,
+    "CNN: model written by `dloam train` (empty: models/mos_m<m>.pt shipped with dloam)", Choices{});
   v("cnn_threshold", c.cnn_threshold, "CNN: moving-probability threshold", within(0, 1));
-  v("threads", c.threads, "CNN inference threads", within(1, 256));
+  v("threads", c.threads, "CNN inference threads (LibTorch; more than the idle cores slows it down)",
+    within(1, 256));
 }
 
 template <class V>
@@ -128,6 +133,9 @@ void visit(OdometryConfig& c, V& v) {
 template <class V>
 void visit(MappingConfig& c, V& v) {
   v("every_n_scans", c.every_n_scans, "mapping rate = scan rate / every_n_scans (paper: 2 Hz)", at_least(1));
+  v("latency_scans", c.latency_scans,
+    "scan-to-map runs in parallel; its result is used this many scans later (0: at once, <= every_n_scans)",
+    at_least(0));
   v("max_iterations", c.max_iterations, "LM iterations of scan-to-map matching", at_least(1));
   v("keyframe_distance", c.keyframe_distance, "m between keyframes", at_least(0));
   v("keyframe_angle_deg", c.keyframe_angle_deg, "deg between keyframes", at_least(0));

@@ -4,6 +4,8 @@
 // interrupted run never leaves a half-written file.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,12 +52,21 @@ void write_times(const std::string& path, const std::vector<double>& times);
 std::vector<Pose> camera_to_lidar(const std::vector<Pose>& camera_poses, const Pose& Tr);
 std::vector<Pose> lidar_to_camera(const std::vector<Pose>& lidar_poses, const Pose& Tr);
 
+/// The scans of a sequence stored in one file (a rosbag: dloam_ros) instead of a file per scan.
+struct ScanSource {
+  virtual ~ScanSource() = default;
+  [[nodiscard]] virtual PointCloud read(std::size_t i) const = 0;
+  /// What is read and how, for `dloam check` / `dloam run` (e.g. the topic, dropped points).
+  [[nodiscard]] virtual std::string describe() const = 0;
+};
+
 /// A sequence folder. open_sequence() lists the files and checks that counts agree
 /// (poses, times, labels vs scans); scans are read lazily with read_scan().
 struct Sequence {
   std::string dir;
-  std::vector<std::string> scan_files;   ///< velodyne/NNNNNN.bin, sorted
-  std::vector<std::string> label_files;  ///< labels/NNNNNN.label, empty when absent
+  std::vector<std::string> scan_files;       ///< velodyne/NNNNNN.bin, sorted (a source: one name per scan)
+  std::shared_ptr<const ScanSource> source;  ///< single-file sequences (rosbag): read_scan() reads it
+  std::vector<std::string> label_files;      ///< labels/NNNNNN.label, empty when absent
   std::optional<Calib> calib;
   std::vector<Pose> poses;    ///< poses.txt as stored (camera frame when calib has Tr), or empty
   std::vector<double> times;  ///< times.txt, or empty
@@ -71,7 +82,14 @@ struct Sequence {
 /// Lists a sequence folder and checks that counts and names agree (poses, times, labels vs
 /// scans); reads the small text files. Scans are KITTI .bin in velodyne/, or PCD files in
 /// velodyne/ or directly in `dir`.
-Sequence open_sequence(const std::string& dir);
+/// A regular file is opened by the reader registered for its extension (a rosbag, with `topic`
+/// choosing the stream: empty = the only PointCloud2 topic).
+Sequence open_sequence(const std::string& dir, const std::string& topic = {});
+
+/// Opens a sequence stored in one file; `topic` as in open_sequence().
+using FileSequenceOpener = std::function<Sequence(const std::string& path, const std::string& topic)>;
+/// Registers the reader of single-file sequences with this extension (".bag": dloam_ros).
+void register_sequence_format(const std::string& extension, FileSequenceOpener opener);
 
 /// The files of a sequence folder, listed but not read (paths empty when absent). Throws when
 /// `dir` is missing or holds no scans. Used by open_sequence() and `dloam check`.

@@ -98,7 +98,8 @@ PcdHeader parse_header(const std::string& path, const std::string& bytes) {
   return h;
 }
 
-/// Sweep fractions in [0, 1): kept when they already are, else rescaled from [min, max].
+}  // namespace
+
 std::vector<float> to_sweep_fraction(const std::vector<double>& t) {
   const auto [lo, hi] = std::minmax_element(t.begin(), t.end());
   const bool fractions = *lo >= 0.0 && *hi < 1.0 && *hi - *lo >= 0.5;
@@ -110,7 +111,6 @@ std::vector<float> to_sweep_fraction(const std::vector<double>& t) {
   }
   return out;
 }
-}  // namespace
 
 PointCloud read_pcd(const std::string& path) {
   const std::string bytes = read_file(path);

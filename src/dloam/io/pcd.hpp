@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "dloam/core/types.hpp"
 #include "dloam/io/encoding.hpp"
@@ -16,6 +17,10 @@ namespace dloam::io {
 /// spanning at least half of it); otherwise (seconds, nanoseconds, ...) they are rescaled
 /// linearly to [0, 1) from their minimum and maximum.
 PointCloud read_pcd(const std::string& path);
+
+/// Per-point times (any unit) as sweep fractions in [0, 1): kept when they already look like
+/// fractions, else rescaled linearly from [min, max]. Shared by the PCD and rosbag readers.
+std::vector<float> to_sweep_fraction(const std::vector<double>& t);
 
 /// Writes float32 x y z, intensity (when present) and time (when present), atomically.
 void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encoding = Encoding::kBinary);

@@ -2,6 +2,7 @@
 // files, checks that labels / poses / times agree with the scans, reads scans lazily.
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/pcd.hpp"
@@ -31,7 +32,27 @@ std::string optional_file(const fs::path& dir, const char* name) {
 }
 
 std::string stem(const std::string& path) { return fs::path(path).stem().string(); }
+
+std::map<std::string, FileSequenceOpener>& file_formats() {
+  static std::map<std::string, FileSequenceOpener> formats;
+  return formats;
+}
+
+Sequence open_sequence_file(const std::string& path, const std::string& topic) {
+  const std::string ext = fs::path(path).extension().string();
+  const auto it = file_formats().find(ext);
+  if (it != file_formats().end()) return it->second(path, topic);
+  if (ext == ".bag")
+    fail(path,
+         "rosbag input needs dloam built with ROS (cmake -DDLOAM_WITH_ROS=ON and the Debian packages "
+         "librosbag-storage-dev libsensor-msgs-dev)");
+  fail(path, "is a file; expected a sequence folder or a rosbag (.bag)");
+}
 }  // namespace
+
+void register_sequence_format(const std::string& extension, FileSequenceOpener opener) {
+  file_formats()[extension] = std::move(opener);
+}
 
 SequenceFiles list_sequence_files(const std::string& dir) {
   std::error_code ec;
@@ -58,7 +79,10 @@ PointCloud read_scan_file(const std::string& path) {
   return read_kitti_bin(path);
 }
 
-Sequence open_sequence(const std::string& dir) {
+Sequence open_sequence(const std::string& dir, const std::string& topic) {
+  std::error_code ec;
+  if (fs::is_regular_file(dir, ec)) return open_sequence_file(dir, topic);
+  if (!topic.empty()) fail(dir, "a topic applies to rosbag files only");
   const SequenceFiles files = list_sequence_files(dir);
   Sequence seq;
   seq.dir = dir;
@@ -97,6 +121,7 @@ std::vector<Pose> Sequence::lidar_poses() const {
 PointCloud Sequence::read_scan(std::size_t i) const {
   if (i >= scan_files.size())
     fail(dir, "scan index " + std::to_string(i) + " out of range (" + std::to_string(size()) + " scans)");
+  if (source) return source->read(i);
   return read_scan_file(scan_files[i]);
 }
 

@@ -35,24 +35,53 @@ struct Checker {
   }
 };
 
-void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Checker& c) {
-  std::map<std::string, std::size_t> points_of;  // scan stem -> points, readable scans only
+/// Point counts, time channels and the sensor estimate over the readable scans.
+struct ScanStats {
   ElevationHistogram histogram;
   std::size_t total = 0;
+  void add(const PointCloud& cloud, SequenceReport& r) {
+    r.min_points = r.scans_ok == 0 ? cloud.size() : std::min(r.min_points, cloud.size());
+    r.max_points = std::max(r.max_points, cloud.size());
+    total += cloud.size();
+    ++r.scans_ok;
+    if (cloud.has_time()) ++r.points_with_time;
+    histogram.add(cloud);
+  }
+  void finish(SequenceReport& r) const {
+    if (r.scans_ok > 0) r.mean_points = static_cast<double>(total) / static_cast<double>(r.scans_ok);
+    if (histogram.total > 0) r.sensor = estimate_sensor(histogram);
+  }
+};
+
+/// A sequence stored in one file (rosbag): every scan read through its source, stamps as times.
+void check_file_sequence(const std::string& path, const std::string& topic, SequenceReport& r, Checker& c) {
+  Sequence seq;
+  if (!c.attempt([&] { seq = open_sequence(path, topic); })) return;
+  r.scans = seq.size();
+  r.scan_format = "PointCloud2";
+  ScanStats stats;
+  for (std::size_t i = 0; i < seq.size(); ++i) c.attempt([&] { stats.add(seq.read_scan(i), r); });
+  stats.finish(r);
+  if (seq.source) r.source = seq.source->describe();
+  r.has_times = !seq.times.empty();
+  r.time_count = seq.times.size();
+  if (r.has_times) {
+    r.first_time = seq.times.front();
+    r.last_time = seq.times.back();
+  }
+}
+
+void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Checker& c) {
+  std::map<std::string, std::size_t> points_of;  // scan stem -> points, readable scans only
+  ScanStats stats;
   for (const auto& path : files.scan_files) {
     c.attempt([&] {
       const PointCloud cloud = read_scan_file(path);
       points_of[stem(path)] = cloud.size();
-      r.min_points = r.scans_ok == 0 ? cloud.size() : std::min(r.min_points, cloud.size());
-      r.max_points = std::max(r.max_points, cloud.size());
-      total += cloud.size();
-      ++r.scans_ok;
-      if (cloud.has_time()) ++r.points_with_time;
-      histogram.add(cloud);
+      stats.add(cloud, r);
     });
   }
-  if (r.scans_ok > 0) r.mean_points = static_cast<double>(total) / static_cast<double>(r.scans_ok);
-  if (histogram.total > 0) r.sensor = estimate_sensor(histogram);
+  stats.finish(r);
 
   r.has_labels = files.has_label_dir;
   if (!files.has_label_dir) return;
@@ -127,10 +156,16 @@ void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c)
 }  // namespace
 
 SequenceReport check_sequence(const std::string& dir,
-                              const std::function<void(const std::string&)>& on_problem) {
+                              const std::function<void(const std::string&)>& on_problem,
+                              const std::string& topic) {
   SequenceReport report;
   report.dir = dir;
   Checker checker{report, on_problem};
+  std::error_code ec;
+  if (fs::is_regular_file(dir, ec) || !topic.empty()) {
+    check_file_sequence(dir, topic, report, checker);
+    return report;
+  }
   SequenceFiles files;
   if (!checker.attempt([&] { files = list_sequence_files(dir); })) return report;
   report.scans = files.scan_files.size();

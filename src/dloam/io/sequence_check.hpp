@@ -1,6 +1,7 @@
 // Full validation of a sequence folder for `dloam check`: reads every scan, label file, pose,
 // time and the calibration, collects every problem (each naming its file) instead of stopping
-// at the first, and summarises what ground truth the sequence has.
+// at the first, and summarises what ground truth the sequence has. A rosbag (a file, with an
+// optional topic) is checked message by message.
 #pragma once
 
 #include <functional>
@@ -14,7 +15,8 @@ namespace dloam::io {
 
 struct SequenceReport {
   std::string dir;
-  std::string scan_format;  ///< "KITTI .bin" or "PCD"
+  std::string scan_format;  ///< "KITTI .bin" or "PCD", or "PointCloud2" (rosbag)
+  std::string source;       ///< single-file sequences (rosbag): ScanSource::describe()
   std::size_t scans = 0, scans_ok = 0;
   std::size_t min_points = 0, max_points = 0;
   double mean_points = 0.0;
@@ -36,6 +38,7 @@ struct SequenceReport {
 /// Checks everything; `on_problem` (optional) sees each problem as it is found. Never throws
 /// for bad data: a folder that cannot be listed is itself reported as a problem.
 SequenceReport check_sequence(const std::string& dir,
-                              const std::function<void(const std::string&)>& on_problem = {});
+                              const std::function<void(const std::string&)>& on_problem = {},
+                              const std::string& topic = {});
 
 }  // namespace dloam::io

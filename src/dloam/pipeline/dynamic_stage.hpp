@@ -3,7 +3,9 @@
 // current scan with T_coarse and of the previous one with the refined motion (eq. 12), the speed
 // matrix (eq. 13), the two-frame cluster detector with ground re-verification, the pseudo-static
 // object tracker, and what the later modules need: the feature mask, eq. 15's column distances
-// and per-point labels. Keeps the previous scan between calls.
+// and per-point labels. Keeps the previous scan between calls. The first scan pair has no motion
+// prior: T_coarse comes from a search over forward translation, and both scans of the pair are
+// de-skewed with it before the refinement (the first scan was never de-skewed).
 #pragma once
 
 #include <memory>
@@ -13,6 +15,7 @@
 #include "dloam/core/features.hpp"
 #include "dloam/core/object_tracker.hpp"
 #include "dloam/core/preregistration.hpp"
+#include "dloam/pipeline/cnn_stage.hpp"
 #include "dloam/pipeline/config.hpp"
 
 namespace dloam {
@@ -30,20 +33,43 @@ struct DynamicOutput {
 
 class DynamicStage {
  public:
-  explicit DynamicStage(const PipelineConfig& config) : config_(config) {}
+  /// `cnn`: the learned segmenter when the detector is "cnn" (null: the geometric detector).
+  explicit DynamicStage(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn = nullptr)
+      : config_(config) {
+    if (cnn) cnn_ = std::make_unique<CnnStage>(std::move(cnn), config.sensor);
+  }
 
   /// `raw`: the scan (vertical-angle corrected, not de-skewed) and its point times; `deskewed`:
   /// the scan de-skewed with `predicted` (the constant-velocity motion, also the refined motion of
   /// the previous sweep), segmented into `seg`.
   DynamicOutput process(const std::vector<Vec3>& raw, const std::vector<double>& times,
-                        std::vector<Vec3> deskewed, const SegmentationResult& seg, const Pose& predicted);
+                        std::vector<Vec3> deskewed, const SegmentationResult& seg, const Pose& predicted,
+                        const std::vector<float>& intensity = {});
+  /// The odometry's pose of the scan just processed (the CNN's bags use the pipeline's own poses).
+  void refine_pose(const Pose& pose) {
+    if (cnn_) cnn_->refine_latest(pose);
+  }
 
  private:
+  /// The first pair: T_coarse without a prior (search_forward_translation scored by the static
+  /// cluster pixels, then the object ICP); re-de-skews the first scan (range image, objects)
+  /// and the current objects with it. Returns the coarse result.
+  CoarseResult first_pair(const std::vector<Vec3>& raw, const std::vector<double>& times,
+                          const std::vector<Vec3>& deskewed, const SegmentationResult& seg,
+                          const Pose& predicted, ObjectSet& objects);
+  void remember_range(const RangeImage& image, const std::vector<Vec3>& points);
+
   PipelineConfig config_;
   bool have_previous_ = false;
+  bool first_pair_done_ = false;
+  /// The first scan (raw, times, segmentation), kept until the first pair is processed.
+  std::vector<Vec3> first_raw_;
+  std::vector<double> first_times_;
+  std::unique_ptr<SegmentationResult> first_seg_;
   std::vector<float> previous_range_;  ///< previous scan's range image (its final de-skew, own frame)
   std::unique_ptr<FeatureMap> previous_objects_;
   ObjectTracker tracker_;
+  std::unique_ptr<CnnStage> cnn_;
 };
 
 }  // namespace dloam

@@ -1,5 +1,6 @@
 #include "dloam/pipeline/pipeline.hpp"
 
+#include <chrono>
 #include <numeric>
 #include <stdexcept>
 
@@ -37,13 +38,23 @@ std::vector<std::size_t> static_points(const std::vector<Label>& labels, const S
 }
 }  // namespace
 
-Pipeline::Pipeline(const PipelineConfig& config)
+Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn)
     : config_(config), odometry_(config.odometry), mapper_(config.mapping, config.sensor.scan_rate_hz) {
   config_.sensor.validate();
-  if (config_.detection.detector == "cnn")
-    throw std::invalid_argument(
-        "detection.detector: the CNN detector is not available yet; use none or geometric");
+  if (config_.detection.detector == "auto") config_.detection.detector = cnn ? "cnn" : "geometric";
+  if (config_.detection.detector == "cnn") {
+    if (!cnn)
+      throw std::invalid_argument(
+          "detection.detector is cnn but no model was loaded (detection.model_path; a build with LibTorch)");
+    dynamic_ = std::make_unique<DynamicStage>(config_, std::move(cnn));
+  }
   if (config_.detection.detector == "geometric") dynamic_ = std::make_unique<DynamicStage>(config_);
+  if (config_.mapping.latency_scans < 0 || config_.mapping.latency_scans > config_.mapping.every_n_scans)
+    throw std::invalid_argument("mapping.latency_scans must be in [0, mapping.every_n_scans]");
+}
+
+Pipeline::~Pipeline() {
+  if (job_) job_->output.wait();
 }
 
 ScanResult Pipeline::process(const PointCloud& cloud) {
@@ -59,7 +70,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     points = cloud.xyz;
     correct_vertical_angle(points, config_.sensor.vertical_angle_correction_deg);
     if (config_.deskew.enabled && config_.deskew.time_source != "none") {
-      if (count_ > 0 || dynamic_) times = point_times(cloud, config_.deskew.time_source == "auto");
+      times = point_times(cloud, config_.deskew.time_source == "auto");  // scan 0: de-skewed at scan 1
       raw = points;
       if (count_ > 0) points = deskew(points, times, velocity_);
     } else if (dynamic_) {
@@ -77,7 +88,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   DynamicOutput dyn;
   if (dynamic_) {
     ScopedTimer t(out.times, Module::kDetection);
-    dyn = dynamic_->process(raw, times, std::move(points), seg, velocity_);
+    dyn = dynamic_->process(raw, times, std::move(points), seg, velocity_, cloud.intensity);
     points = std::move(dyn.points);
     out.labels = std::move(dyn.labels);
     out.num_dynamic = dyn.num_dynamic;
@@ -103,13 +114,22 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       sharp.plane_weights = compensated_weights(features.f_p_index, seg.image, dyn.column_distance);
     }
     const bool reject = dynamic_ != nullptr;
-    auto odo = odometry_.estimate(sharp, velocity_, reject);
+    // T_coarse (static poles / planes, III.D.1) is the initial guess when valid; the features
+    // were de-skewed with it.
+    const Pose initial = dynamic_ && dyn.coarse_valid ? dyn.T_coarse : velocity_;
+    auto odo = odometry_.estimate(sharp, initial, reject);
+    if (first_ && !first_->raw.empty()) {
+      // Scan 1: the first motion is known; de-skew the first scan with it (constant velocity) and
+      // estimate again against the corrected target.
+      deskew_first_scan(odo.motion);
+      odo = odometry_.estimate(sharp, odo.motion, reject);
+    }
     if (!times.empty() && count_ > 0) {
       // The constant-velocity de-skew is wrong where the turn rate changes (start and end of a
       // turn): de-skew the features again with the motion just estimated, and estimate once more
       // when that motion differs much from the prediction. The map and the next scan's target get
       // the refined features.
-      const Pose change = velocity_.inverse() * odo.motion;
+      const Pose change = initial.inverse() * odo.motion;
       if (rotation_angle(change) > kRedeskewRotation || translation_norm(change) > kRedeskewTranslation) {
         sharp.edges = deskew(raw, times, features.f_e_index, odo.motion);
         sharp.planes = deskew(raw, times, features.f_p_index, odo.motion);
@@ -124,36 +144,132 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     out.degenerate = odo.plane_step.degenerate || odo.edge_step.degenerate;
   }
   out.odometry_pose = odometry_pose_;
+  if (dynamic_) dynamic_->refine_pose(odometry_pose_);
 
-  // Scan-to-map at the mapping rate; transform integration in between.
-  const int every = std::max(1, config_.mapping.every_n_scans);
-  if (count_ % static_cast<std::size_t>(every) == 0) {
-    ScopedTimer t(out.times, Module::kMapping);
-    FeatureSource all{features.F_e, features.F_p, {}, {}};
-    const auto m = mapper_.process(count_, all, correction_ * odometry_pose_);
-    correction_ = normalized(m.pose * odometry_pose_.inverse());
-    out.mapped = true;
-    out.keyframe = m.keyframe;
-    out.loop_closed = m.loop.has_value();
-    if (m.keyframe && dynamic_) {
-      // The first scan has no speed matrix: its moving objects are unknown, it adds no map points.
-      if (dyn.checked) out.map_points = static_points(out.labels, seg, dyn.mask.excluded);
-      std::vector<Vec3> kept;
-      kept.reserve(out.map_points.size());
-      for (std::size_t i : out.map_points) kept.push_back(points[i]);
-      mapper_.add_to_global_map(kept, m.pose);
-    } else if (m.keyframe) {
-      out.map_points.resize(points.size());
-      std::iota(out.map_points.begin(), out.map_points.end(), std::size_t{0});
-      mapper_.add_to_global_map(points, m.pose);
-    }
+  odometry_poses_.push_back(odometry_pose_);
+
+  // Scan-to-map at the mapping rate, on a worker thread; transform integration in between.
+  std::vector<std::size_t> map_points;
+  if (dynamic_) {
+    // The first scan has no speed matrix: its moving objects are unknown, it adds no map points.
+    if (dyn.checked) map_points = static_points(out.labels, seg, dyn.mask.excluded);
+  } else {
+    map_points.resize(points.size());
+    std::iota(map_points.begin(), map_points.end(), std::size_t{0});
   }
+  map_scan(out, features, points, std::move(map_points), raw, times);
   out.pose = normalized(correction_ * odometry_pose_);
-  // A loop closure moves the pose at once: that jump is not motion (keep the last velocity).
-  if (!out.loop_closed) velocity_ = count_ > 0 ? last_pose_.inverse() * out.pose : Pose::Identity();
+  // The constant-velocity prediction is the odometry's last motion: mapping corrections (and loop
+  // closures) move the integrated pose in jumps when they arrive, which are not motion.
+  velocity_ = count_ > 0 ? odometry_poses_[count_ - 1].inverse() * odometry_pose_ : Pose::Identity();
   last_pose_ = out.pose;
   ++count_;
   return out;
+}
+
+void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::vector<Vec3>& points,
+                        std::vector<std::size_t> map_points, const std::vector<Vec3>& raw,
+                        const std::vector<double>& times) {
+  if (job_ && count_ >= job_->scan + static_cast<std::size_t>(config_.mapping.latency_scans))
+    integrate_job(&out);
+  if (first_) {  // scan 1: the (de-skewed) first scan is mapped first, at once
+    start_job(std::move(first_->input));
+    first_.reset();
+    integrate_job(&out);
+  }
+  const auto every = static_cast<std::size_t>(std::max(1, config_.mapping.every_n_scans));
+  if (count_ % every != 0) return;
+  if (job_) integrate_job(&out);  // never two jobs in flight
+
+  MappingInput in;
+  in.scan = count_;
+  in.features = {features.F_e, features.F_p, {}, {}};
+  in.predicted = normalized(correction_ * odometry_pose_);
+  in.keyframe = mapper_.needs_keyframe(in.predicted);
+  out.mapped = true;
+  out.keyframe = in.keyframe;
+  if (in.keyframe) {
+    out.map_points = std::move(map_points);
+    in.points.reserve(out.map_points.size());
+    for (std::size_t i : out.map_points) in.points.push_back(points[i]);
+  }
+  if (count_ == 0) {  // wait for the first motion (scan 1) to de-skew it
+    first_.emplace();
+    if (!times.empty()) {
+      first_->raw = raw;
+      first_->times = times;
+      first_->F_e_index = features.F_e_index;
+      first_->F_p_index = features.F_p_index;
+      first_->map_points = out.map_points;
+    }
+    first_->input = std::move(in);
+    return;
+  }
+  start_job(std::move(in));
+  if (config_.mapping.latency_scans == 0) integrate_job(&out);
+}
+
+void Pipeline::deskew_first_scan(const Pose& motion) {
+  FirstScan& f = *first_;
+  f.input.features.edges = deskew(f.raw, f.times, f.F_e_index, motion);
+  f.input.features.planes = deskew(f.raw, f.times, f.F_p_index, motion);
+  const std::vector<Vec3> points = deskew(f.raw, f.times, motion);
+  for (std::size_t j = 0; j < f.map_points.size(); ++j) f.input.points[j] = points[f.map_points[j]];
+  odometry_.set_previous(f.input.features.edges, f.input.features.planes);
+  f.raw.clear();  // done
+}
+
+void Pipeline::start_job(MappingInput input) {
+  Job job;
+  job.scan = input.scan;
+  job.odometry_pose = odometry_poses_[input.scan];
+  job.output = std::async(std::launch::async, [this, in = std::move(input)] {
+    const auto start = std::chrono::steady_clock::now();
+    MappingOutput o;
+    o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe);
+    if (in.keyframe) mapper_.add_to_global_map(in.points);
+    o.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return o;
+  });
+  job_ = std::move(job);
+}
+
+void Pipeline::integrate_job(ScanResult* out) {
+  if (!job_) return;
+  const MappingOutput o = job_->output.get();  // rethrows the job's exception
+  correction_ = normalized(o.result.pose * job_->odometry_pose.inverse());
+  mapped_.emplace_back(job_->scan, o.result.pose);
+  if (out) {
+    out->loop_closed = out->loop_closed || o.result.loop.has_value();
+    out->times[Module::kMapping] += o.ms;
+  }
+  job_.reset();
+}
+
+void Pipeline::finish() {
+  if (first_) {  // a single scan: mapped as it is
+    start_job(std::move(first_->input));
+    first_.reset();
+  }
+  integrate_job(nullptr);
+}
+
+std::vector<Vec3> Pipeline::global_map() {
+  finish();
+  return mapper_.global_map();
+}
+
+std::vector<Pose> Pipeline::trajectory() {
+  finish();
+  std::vector<Pose> out(odometry_poses_.size(), Pose::Identity());
+  Pose correction = Pose::Identity();
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    for (; j < mapped_.size() && mapped_[j].first <= i; ++j)
+      correction = mapped_[j].second * odometry_poses_[mapped_[j].first].inverse();
+    out[i] = normalized(correction * odometry_poses_[i]);
+  }
+  return mapper_.corrected_trajectory(out);
 }
 
 }  // namespace dloam

@@ -1,12 +1,20 @@
 // The DLOAM pipeline (paper Fig. 1): segmentation -> (pre-registration, de-skew) -> dynamic-object
 // detection -> feature extraction from static points -> scan-to-scan odometry -> scan-to-map
 // mapping -> transform integration. One call per scan, in order; deterministic.
+// Mapping runs in parallel (LOAM / LeGO-LOAM transform integration): the scan-to-map job of scan k
+// runs on a worker thread while the next scans' odometry goes on, and its correction is
+// integrated at the fixed scan k + mapping.latency_scans, so the poses do not depend on thread
+// timing. The first scan is de-skewed retroactively once the first motion is known (scan 1).
 #pragma once
 
+#include <future>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "dloam/core/features.hpp"
 #include "dloam/core/mapping.hpp"
+#include "dloam/core/moving_segmenter.hpp"
 #include "dloam/core/odometry.hpp"
 #include "dloam/core/types.hpp"
 #include "dloam/pipeline/config.hpp"
@@ -24,32 +32,85 @@ struct ScanResult {
   std::vector<std::size_t> plane_features;  ///< input point indices of F_p
   std::size_t n_edges = 0, n_planes = 0;    ///< |F_e|, |F_p|
   std::vector<std::size_t> map_points;      ///< input indices of the points added to the global map
-  bool mapped = false;                      ///< mapping ran on this scan
-  bool keyframe = false;
-  bool loop_closed = false;  ///< a loop closure corrected the keyframes at this scan
+  bool mapped = false;                      ///< a scan-to-map job was started for this scan
+  bool keyframe = false;                    ///< ... and the scan becomes a keyframe
+  bool loop_closed = false;  ///< a loop-closure correction was integrated at this scan (pose jump)
   bool degenerate = false;
   int num_dynamic = 0;                ///< dynamic clusters (detector on)
   int pseudo_static = 0;              ///< type-2 pseudo-static objects (dynamic -> static)
   bool coarse_valid = false;          ///< pre-registration gave T_coarse
   std::size_t rejected_features = 0;  ///< removed by the pseudo-static rejection
+  /// Per module (ms); kMapping: duration of the mapping job integrated at this scan (it ran on
+  /// the worker thread); kTotal: this call's wall time, including any wait for that job.
   ModuleTimes times;
 };
 
 class Pipeline {
  public:
-  explicit Pipeline(const PipelineConfig& config);
+  /// `cnn`: the learned moving-object segmenter, required when detection.detector is "cnn"
+  /// (front-ends load it with dloam/cnn/cnn_segmenter.hpp).
+  explicit Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn = nullptr);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;  // a mapping job may hold `this`
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  /// `pose` of the result: the real-time integrated pose (odometry with the latest mapping
+  /// correction integrated so far).
   ScanResult process(const PointCloud& cloud);
+  /// Waits for the mapping job in flight and integrates it (the accessors below call it).
+  void finish();
 
   [[nodiscard]] const PipelineConfig& config() const { return config_; }
-  [[nodiscard]] std::vector<Vec3> global_map() const { return mapper_.global_map(); }
+  /// The global map, every keyframe's points at its current (loop-corrected) pose.
+  [[nodiscard]] std::vector<Vec3> global_map();
+  /// The best estimate of every scan's pose so far: the odometry with the correction of the latest
+  /// mapped scan at or before it (the mapped pose itself for mapped scans), moved with its
+  /// keyframe after loop closures. Write this trajectory; `ScanResult::pose` is the real-time one.
+  [[nodiscard]] std::vector<Pose> trajectory();
   /// The poses reported so far (`ScanResult::pose`, one per scan in order), each moved with its
   /// keyframe when a loop closure corrected the keyframes afterwards.
-  [[nodiscard]] std::vector<Pose> corrected_trajectory(const std::vector<Pose>& reported) const {
+  [[nodiscard]] std::vector<Pose> corrected_trajectory(const std::vector<Pose>& reported) {
+    finish();
     return mapper_.corrected_trajectory(reported);
   }
-  [[nodiscard]] std::size_t loop_closures() const { return mapper_.loops().size(); }
+  [[nodiscard]] std::size_t loop_closures() {
+    finish();
+    return mapper_.loops().size();
+  }
 
  private:
+  /// What the mapping job of a scan needs; built on the main thread.
+  struct MappingInput {
+    std::size_t scan = 0;
+    FeatureSource features;    ///< F_e, F_p (sensor frame)
+    std::vector<Vec3> points;  ///< static points for the global map (keyframes only)
+    Pose predicted = Pose::Identity();
+    bool keyframe = false;
+  };
+  struct MappingOutput {
+    MappingResult result;
+    double ms = 0.0;
+  };
+  /// The first scan, kept until the first motion de-skews it.
+  struct FirstScan {
+    std::vector<Vec3> raw;  ///< empty when there is no de-skew
+    std::vector<double> times;
+    std::vector<int> F_e_index, F_p_index;
+    std::vector<std::size_t> map_points;
+    MappingInput input;  ///< as extracted (not de-skewed)
+  };
+
+  /// Mapping section of process(): join the due job, start this scan's job.
+  void map_scan(ScanResult& out, const FeatureSet& features, const std::vector<Vec3>& points,
+                std::vector<std::size_t> map_points, const std::vector<Vec3>& raw,
+                const std::vector<double>& times);
+  void start_job(MappingInput input);
+  /// Joins the job in flight and integrates its correction (transform integration).
+  void integrate_job(ScanResult* out);
+  /// Scan 1: de-skews the first scan's features (the odometry target) and map points with the
+  /// motion of scan 1 (constant velocity); map_scan() then maps it.
+  void deskew_first_scan(const Pose& motion);
+
   PipelineConfig config_;
   ScanToScanOdometry odometry_;
   Mapper mapper_;
@@ -59,6 +120,15 @@ class Pipeline {
   Pose correction_ = Pose::Identity();  ///< mapping pose * odometry pose^-1 (transform integration)
   Pose last_pose_ = Pose::Identity();
   Pose velocity_ = Pose::Identity();  ///< last inter-scan motion, the constant-velocity prediction
+  std::vector<Pose> odometry_poses_;  ///< per scan
+  std::vector<std::pair<std::size_t, Pose>> mapped_;  ///< (scan, refined pose) of integrated jobs
+  std::optional<FirstScan> first_;
+  struct Job {
+    std::size_t scan = 0;
+    Pose odometry_pose = Pose::Identity();
+    std::future<MappingOutput> output;
+  };
+  std::optional<Job> job_;  ///< last member: destroyed (joined) first
 };
 
 }  // namespace dloam

@@ -1,6 +1,11 @@
 // Motion along a planar path: a Path of straight lines joined by circular arcs (continuous
 // heading), parametrised by arc length, and a SpeedProfile giving the distance travelled along
 // it as a function of time (piecewise-linear speed, so stop-and-go motion is smooth).
+// Realism: a car cannot switch from straight to full steering lock instantly, so corners can have
+// clothoid transitions (curvature linear in arc length, the road-design spiral): at constant speed
+// v the yaw rate then ramps up and down with a bounded yaw acceleration v^2 / (R L) instead of
+// jumping to v / R. A line-arc-line corner has a yaw-rate step that no real drive has (and that a
+// LiDAR's constant-velocity de-skew cannot represent).
 #pragma once
 
 #include <Eigen/Core>
@@ -21,8 +26,11 @@ class Path {
   Path() = default;
   /// Polyline through `waypoints` with corners rounded by arcs of `corner_radius` (smaller when
   /// the legs are short). A closed path also rounds the corner at the first waypoint and starts
-  /// (s = 0) right after it. Throws std::invalid_argument for fewer than 2 distinct waypoints.
-  static Path from_waypoints(const std::vector<Vec2>& waypoints, double corner_radius, bool closed);
+  /// (s = 0) right after it. `transition` > 0: each arc is entered and left through clothoids of
+  /// that length (shorter when the turn is too small for two; radius and transition shrink together
+  /// when the legs are short). Throws std::invalid_argument for fewer than 2 distinct waypoints.
+  static Path from_waypoints(const std::vector<Vec2>& waypoints, double corner_radius, bool closed,
+                             double transition = 0.0);
   /// Pose at arc length s. Closed paths wrap around; open paths continue straight beyond their ends.
   [[nodiscard]] PathPoint at(double s) const;
   [[nodiscard]] double length() const { return length_; }
@@ -32,7 +40,8 @@ class Path {
   /// The same curve traversed backwards.
   [[nodiscard]] Path reversed() const;
   /// The parallel curve `d` metres to the left (negative: right), arcs keep their centres.
-  /// Throws std::invalid_argument when an arc's radius is not larger than |d| on its inner side.
+  /// Throws std::invalid_argument when an arc's (or clothoid's) radius is not larger than |d| on
+  /// its inner side.
   [[nodiscard]] Path offset(double d) const;
 
  private:
@@ -42,10 +51,20 @@ class Path {
     double s0 = 0.0;
     double length = 0.0;
     double curvature = 0.0;  ///< 1/radius, positive turning left; 0 for a line
+    // Clothoids only (dcurvature != 0): curvature(u) = curvature + dcurvature * u along the base
+    // spiral of length `base_length` from `start`; the segment is that spiral's parallel curve
+    // `offset` metres to the left, and `length` is the parallel curve's own arc length.
+    double dcurvature = 0.0;
+    double base_length = 0.0;
+    double offset = 0.0;
   };
   void add_line(const Vec2& a, const Vec2& b);
   void add_arc(const Vec2& start, double yaw0, double curvature, double length);
+  void add_clothoid(const Vec2& start, double yaw0, double curvature, double dcurvature, double length);
+  /// A rounded corner (clothoid, arc, clothoid) from `start` with heading `yaw0`.
+  void add_corner(const Vec2& start, double yaw0, double turn, double radius, double transition);
   [[nodiscard]] static PathPoint eval(const Segment& seg, double u);
+  [[nodiscard]] static PathPoint eval_clothoid(const Segment& seg, double u);
 
   std::vector<Segment> segments_;
   std::vector<Vec2> waypoints_;

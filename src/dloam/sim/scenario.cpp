@@ -117,7 +117,12 @@ World make_city_world(const ScenarioParams& params, bool loop) {
     city.ny = b + 2;
     const double x0 = city.street_x(1), x1 = city.street_x(a + 1), y0 = city.street_y(1),
                  y1 = city.street_y(b + 1);
-    const Path centre = Path::from_waypoints({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, 10.0, true);
+    // Corners: arcs of 10 m entered and left through clothoids, so the yaw rate ramps with at most
+    // kMaxYawAcceleration (at most a pure spiral when the speed is high).
+    constexpr double kCornerRadius = 10.0, kMaxYawAcceleration = 0.6;  // m, rad/s^2
+    const double transition = v * v / (kCornerRadius * kMaxYawAcceleration);
+    const Path centre =
+        Path::from_waypoints({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, kCornerRadius, true, transition);
     w.ego.path = centre.offset(-kLaneOffset);
     w.ego.s0 = 0.5 * (x1 - x0) - 10.0;
     ego_lanes = {{true, 1, 1}, {false, a + 1, 1}, {true, b + 1, -1}, {false, 1, -1}};

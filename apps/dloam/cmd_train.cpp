@@ -1,0 +1,94 @@
+// `dloam train`: trains the moving-object CNN (src/dloam/cnn) on labelled SemanticKITTI-layout
+// sequences (simulated drives from `dloam simulate`, or real ones) and writes the model that
+// `dloam run --detector cnn` loads. Shows progress and losses, logs the validation IoU per epoch
+// (also to MODEL.csv beside the model), keeps the best epoch.
+#include <fmt/core.h>
+
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "dloam/cnn/trainer.hpp"
+#include "dloam/io/config_yaml.hpp"
+#include "progress.hpp"
+
+namespace dloam::app {
+namespace {
+
+struct TrainArgs {
+  std::vector<std::string> sequences;
+  std::string config_path, preset;
+  cnn::TrainOptions options;
+};
+
+void run_train(const TrainArgs& a) {
+  PipelineConfig cfg = io::default_config(a.preset);
+  if (!a.config_path.empty()) cfg = io::load_config(a.config_path, cfg);
+  io::validate_config(cfg, a.config_path.empty() ? "built-in config" : a.config_path);
+  std::vector<cnn::MosSequence> data;
+  std::size_t frames = 0;
+  for (const std::string& dir : a.sequences) {
+    Progress bar("load " + dir, 1);
+    data.push_back(cnn::load_mos_sequence(dir, cfg.sensor, [&](std::size_t done, std::size_t total) {
+      if (done == 1) bar = Progress("load " + dir, total);
+      bar.update(done);
+    }));
+    frames += data.back().frames.size();
+  }
+  const cnn::TrainOptions& o = a.options;
+  fmt::print(
+      "dloam train: {} sequences, {} scans, m = {}, width {}, {} epochs of batch {} x {} columns -> {}\n",
+      data.size(), frames, o.m, o.width, o.epochs, o.batch, o.crop_cols, o.out);
+  std::unique_ptr<Progress> bar;
+  cnn::TrainCallbacks cb;
+  cb.on_step = [&](int epoch, std::size_t step, std::size_t steps, double loss) {
+    if (step == 1) bar = std::make_unique<Progress>(fmt::format("epoch {}/{}", epoch, o.epochs), steps);
+    bar->update(step, fmt::format("loss {:.4f}", loss));
+  };
+  cb.on_epoch = [](const cnn::EpochReport& r) {
+    fmt::print("epoch {:3d}  train loss {:.4f}  val IoU {:.1f} % (P {:.1f} %, R {:.1f} %)  {:.0f} s{}\n",
+               r.epoch, r.train_loss, 100 * r.val_iou, 100 * r.val_precision, 100 * r.val_recall, r.seconds,
+               r.best ? "  * best, saved" : "");
+    std::fflush(stdout);
+  };
+  cnn::train_mos_net(data, cfg.sensor, o, cb);
+  fmt::print("wrote {} (best validation IoU), {}.last, {}.csv\n", o.out, o.out, o.out);
+}
+
+}  // namespace
+
+void register_train(CLI::App& app) {
+  auto args = std::make_shared<TrainArgs>();
+  auto* cmd = app.add_subcommand("train", "Train the moving-object CNN on labelled sequences");
+  cmd->footer(
+      "Input: SemanticKITTI-layout folders with velodyne/, labels/, poses.txt (+ calib.txt).\n"
+      "The last --val-fraction of every sequence is held out for validation.\n"
+      "Examples:\n"
+      "  scripts/make_training_data.sh train/sim\n"
+      "  dloam train train/sim/* --out models/mos_m6.pt --m 6 --epochs 8 --seed 1 (models/MODEL.md)");
+  cmd->add_option("sequences", args->sequences, "training sequence folders")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--out,-o", args->options.out, "model file (best epoch)")->required();
+  cmd->add_option("--config,-c", args->config_path, "YAML config (sensor model)");
+  cmd->add_option("--preset", args->preset, "sensor preset")->default_val("HDL-64E");
+  cmd->add_option("--m", args->options.m, "speed images in the range image bag")
+      ->check(CLI::Range(0, 12))
+      ->capture_default_str();
+  cmd->add_option("--width", args->options.width, "network width")
+      ->check(CLI::Range(4, 64))
+      ->capture_default_str();
+  cmd->add_option("--epochs", args->options.epochs)->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--batch", args->options.batch)->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->add_option("--crop", args->options.crop_cols, "training crop width (columns, multiple of 16)")
+      ->capture_default_str();
+  cmd->add_option("--lr", args->options.learning_rate)->capture_default_str();
+  cmd->add_option("--val-fraction", args->options.val_fraction)
+      ->check(CLI::Range(0.0, 0.9))
+      ->capture_default_str();
+  cmd->add_option("--seed", args->options.seed)->capture_default_str();
+  cmd->add_option("--threads", args->options.threads)->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->callback([args] { run_train(*args); });
+}
+
+}  // namespace dloam::app

@@ -1,0 +1,158 @@
+// dloam_node callbacks and outputs (see node.hpp).
+#include "node.hpp"
+
+#include <filesystem>
+
+#include "dloam/io/atomic_file.hpp"
+#include "dloam/io/config_yaml.hpp"
+#include "dloam/io/kitti.hpp"
+#include "dloam/io/ply.hpp"
+#include "dloam/io/timing_csv.hpp"
+#include "dloam/ros/pointcloud2.hpp"
+
+#ifdef DLOAM_HAVE_NAV_MSGS
+#include <nav_msgs/Odometry.h>
+#else
+#include <geometry_msgs/PoseStamped.h>
+#endif
+
+namespace dloam::node {
+
+namespace {
+geometry_msgs::Pose to_msg(const Pose& pose) {
+  geometry_msgs::Pose p;
+  const Eigen::Quaterniond q(pose.linear());
+  p.position.x = pose.translation().x();
+  p.position.y = pose.translation().y();
+  p.position.z = pose.translation().z();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+  return p;
+}
+}  // namespace
+
+NodeParams NodeParams::from(const ::ros::NodeHandle& private_nh) {
+  NodeParams p;
+  private_nh.param("points_topic", p.points_topic, p.points_topic);
+  private_nh.param("config", p.config, p.config);
+  private_nh.param("preset", p.preset, p.preset);
+  private_nh.param("out", p.out, p.out);
+  private_nh.param("map_frame", p.map_frame, p.map_frame);
+  private_nh.param("map_every", p.map_every, p.map_every);
+  private_nh.param("queue_size", p.queue_size, p.queue_size);
+  return p;
+}
+
+DloamNode::DloamNode(::ros::NodeHandle& nh, const NodeParams& params, const PipelineConfig& config,
+                     std::shared_ptr<MovingSegmenter> cnn)
+    : params_(params), pipeline_(config, std::move(cnn)) {
+#ifdef DLOAM_HAVE_NAV_MSGS
+  odom_pub_ = nh.advertise<nav_msgs::Odometry>("dloam/odometry", 10);
+#else
+  odom_pub_ = nh.advertise<geometry_msgs::PoseStamped>("dloam/pose", 10);
+#endif
+  labelled_pub_ = nh.advertise<sensor_msgs::PointCloud2>("dloam/labelled_points", 2);
+  map_pub_ = nh.advertise<sensor_msgs::PointCloud2>("dloam/map", 1, /*latch=*/true);
+  sub_ = nh.subscribe(params_.points_topic, static_cast<std::uint32_t>(std::max(1, params_.queue_size)),
+                      &DloamNode::on_cloud, this);
+  if (!params_.out.empty() && config.detection.detector != "none")
+    std::filesystem::create_directories(params_.out + "/labels");
+}
+
+void DloamNode::on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
+  const std::size_t index = results_.size();
+  const std::string where = params_.points_topic + ", message " + std::to_string(index + bad_messages_);
+  ScanResult r;
+  PointCloud cloud;
+  try {
+    auto converted = ros1::from_pointcloud2(*msg, where);
+    cloud = std::move(converted.cloud);
+    if (converted.dropped > 0)
+      ROS_DEBUG("%s: %zu NaN/Inf points dropped (is_dense=false)", where.c_str(), converted.dropped);
+    r = pipeline_.process(cloud);
+  } catch (const std::exception& e) {  // a bad message is reported and skipped; the node goes on
+    ++bad_messages_;
+    ROS_ERROR("dloam: %s", e.what());
+    return;
+  }
+  r.index = index;
+  publish_pose(msg->header, r.pose);
+  if (labelled_pub_.getNumSubscribers() > 0) {
+    const std::vector<Label> labels =
+        r.labels.empty() ? std::vector<Label>(cloud.size(), semantic::kStatic) : r.labels;
+    sensor_msgs::PointCloud2 out = ros1::to_pointcloud2(cloud, labels);
+    out.header = msg->header;
+    labelled_pub_.publish(out);
+  }
+  if (!params_.out.empty() && !r.labels.empty())
+    io::write_labels(params_.out + "/labels/" + io::scan_name(index) + ".label", r.labels);
+  if (params_.map_every > 0 && (index + 1) % static_cast<std::size_t>(params_.map_every) == 0)
+    publish_map(msg->header.stamp);
+  stamps_.push_back(msg->header.stamp.toSec());
+  r.n_edges = r.edge_features.size();
+  r.n_planes = r.plane_features.size();
+  r.labels = {};
+  r.edge_features = {};
+  r.plane_features = {};
+  r.map_points = {};
+  ROS_DEBUG("dloam: scan %zu in %.1f ms", index, r.times[Module::kTotal]);
+  results_.push_back(std::move(r));
+}
+
+void DloamNode::publish_pose(const std_msgs::Header& header, const Pose& pose) {
+#ifdef DLOAM_HAVE_NAV_MSGS
+  nav_msgs::Odometry odom;
+  odom.header.stamp = header.stamp;
+  odom.header.frame_id = params_.map_frame;
+  odom.child_frame_id = header.frame_id;
+  odom.pose.pose = to_msg(pose);
+  odom_pub_.publish(odom);
+#else
+  geometry_msgs::PoseStamped stamped;
+  stamped.header.stamp = header.stamp;
+  stamped.header.frame_id = params_.map_frame;
+  stamped.pose = to_msg(pose);
+  odom_pub_.publish(stamped);
+#endif
+#ifdef DLOAM_HAVE_TF2_ROS
+  geometry_msgs::TransformStamped tf;
+  tf.header.stamp = header.stamp;
+  tf.header.frame_id = params_.map_frame;
+  tf.child_frame_id = header.frame_id;
+  const geometry_msgs::Pose p = to_msg(pose);
+  tf.transform.translation.x = p.position.x;
+  tf.transform.translation.y = p.position.y;
+  tf.transform.translation.z = p.position.z;
+  tf.transform.rotation = p.orientation;
+  tf_.sendTransform(tf);
+#endif
+}
+
+void DloamNode::publish_map(const ::ros::Time& stamp) {
+  if (map_pub_.getNumSubscribers() == 0) return;
+  PointCloud map;
+  map.xyz = pipeline_.global_map();
+  sensor_msgs::PointCloud2 out = ros1::to_pointcloud2(map);
+  out.header.stamp = stamp;
+  out.header.frame_id = params_.map_frame;
+  map_pub_.publish(out);
+}
+
+void DloamNode::write_outputs() {
+  if (params_.out.empty()) return;
+  const std::string& dir = params_.out;
+  io::write_atomic(dir + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(pipeline_.config()); });
+  const std::vector<Pose> poses = pipeline_.trajectory();  // mapping-refined, as `dloam run` writes
+  io::write_kitti_poses(dir + "/poses.txt", poses);
+  std::vector<io::StampedPose> tum;
+  for (std::size_t i = 0; i < poses.size() && i < stamps_.size(); ++i) tum.push_back({stamps_[i], poses[i]});
+  io::write_tum_poses(dir + "/poses_tum.txt", tum);
+  io::write_timing_csv(dir + "/timing.csv", results_);
+  PointCloud map;
+  map.xyz = pipeline_.global_map();
+  io::write_ply(dir + "/map.ply", map);
+}
+
+}  // namespace dloam::node

@@ -1,0 +1,59 @@
+// dloam_node: runs the DLOAM pipeline on each sensor_msgs/PointCloud2 message of a topic and
+// publishes the pose (nav_msgs/Odometry, or geometry_msgs/PoseStamped without nav_msgs), the TF
+// map -> sensor frame, the scan with a per-point static/moving `label`, and the global map.
+#pragma once
+
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dloam/pipeline/pipeline.hpp"
+
+#ifdef DLOAM_HAVE_TF2_ROS
+#include <tf2_ros/transform_broadcaster.h>
+#endif
+
+namespace dloam::node {
+
+/// Private parameters (~name) of the node.
+struct NodeParams {
+  std::string points_topic = "/velodyne_points";
+  std::string config;  ///< YAML file (see `dloam config dump`); empty: defaults + preset
+  std::string preset;  ///< sensor preset (HDL-64E when empty and no config)
+  std::string out;     ///< folder for `dloam run`'s outputs, written on shutdown; empty: none
+  std::string map_frame = "map";
+  int map_every = 10;  ///< publish the global map every N scans (0: never)
+  int queue_size = 5;
+  static NodeParams from(const ::ros::NodeHandle& private_nh);
+};
+
+class DloamNode {
+ public:
+  DloamNode(::ros::NodeHandle& nh, const NodeParams& params, const PipelineConfig& config,
+            std::shared_ptr<MovingSegmenter> cnn = nullptr);
+  /// poses.txt (KITTI, sensor frame), poses_tum.txt (header stamps), map.ply, timing.csv and
+  /// config.yaml in params.out, as `dloam run` writes them (labels/ are written per scan).
+  void write_outputs();
+  [[nodiscard]] std::size_t scans() const { return results_.size(); }
+
+ private:
+  void on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg);
+  void publish_pose(const std_msgs::Header& header, const Pose& pose);
+  void publish_map(const ::ros::Time& stamp);
+
+  NodeParams params_;
+  Pipeline pipeline_;
+  ::ros::Subscriber sub_;
+  ::ros::Publisher odom_pub_, labelled_pub_, map_pub_;
+#ifdef DLOAM_HAVE_TF2_ROS
+  tf2_ros::TransformBroadcaster tf_;
+#endif
+  std::vector<ScanResult> results_;  ///< timing only (per-point vectors cleared)
+  std::vector<double> stamps_;
+  std::size_t bad_messages_ = 0;
+};
+
+}  // namespace dloam::node

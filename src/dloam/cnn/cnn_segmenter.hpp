@@ -1,0 +1,31 @@
+// The trained MosNet (mos_net.hpp) as the pipeline's MovingSegmenter: LibTorch inference on the
+// CPU. This header does not include LibTorch, so front-ends can use it cheaply.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "dloam/core/moving_segmenter.hpp"
+#include "dloam/pipeline/config.hpp"
+
+namespace dloam::cnn {
+
+/// Loads a model written by `dloam train` (throws InputError naming the file when it is missing or
+/// not a model, or when `expected_m` >= 0 differs from the model's m). `threads`: LibTorch intra-op
+/// threads, set once per process (the first call wins).
+std::unique_ptr<MovingSegmenter> load_cnn_segmenter(const std::string& model_path, int threads,
+                                                    int expected_m = -1);
+
+/// detection.model_path, or `<model_dir>/mos_m<m>.pt` (the model shipped with dloam) when empty.
+std::string resolve_model_path(const DetectionConfig& detection, const std::string& model_dir);
+
+/// Front-end setup of the detector: resolves detector "auto" (cnn when the model file exists, else
+/// geometric) and an empty model_path (the shipped model) in `detection`, and loads the segmenter
+/// when the detector is cnn (null otherwise). Throws InputError for a missing or bad model file.
+std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir);
+
+/// Pads a bag tensor to the network's size multiples (rows to 8, columns to 16; columns wrap
+/// around, rows get zeros) and crops the output back. Exposed for tests.
+int padded_size(int n, int multiple);
+
+}  // namespace dloam::cnn

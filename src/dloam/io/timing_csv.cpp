@@ -1,0 +1,28 @@
+// timing.csv writer (see timing_csv.hpp).
+#include "dloam/io/timing_csv.hpp"
+
+#include <cstdio>
+
+#include "dloam/io/atomic_file.hpp"
+
+namespace dloam::io {
+
+void write_timing_csv(const std::string& path, const std::vector<ScanResult>& results) {
+  write_atomic(path, [&](std::ostream& out) {
+    out << "scan";
+    for (auto name : kModuleNames) out << ',' << name << "_ms";
+    out << ",edges,planes,mapped,keyframe,loop_closed,degenerate\n";
+    char buf[32];
+    for (const auto& r : results) {
+      out << r.index;
+      for (double ms : r.times.ms) {
+        std::snprintf(buf, sizeof(buf), "%.3f", ms);
+        out << ',' << buf;
+      }
+      out << ',' << r.n_edges << ',' << r.n_planes << ',' << r.mapped << ',' << r.keyframe << ','
+          << r.loop_closed << ',' << r.degenerate << '\n';
+    }
+  });
+}
+
+}  // namespace dloam::io

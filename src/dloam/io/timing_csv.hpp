@@ -1,0 +1,16 @@
+// timing.csv of a run: milliseconds per scan and pipeline module, plus the per-scan feature counts
+// and flags. Written by `dloam run` and `dloam_node`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dloam/pipeline/pipeline.hpp"
+
+namespace dloam::io {
+
+/// Columns: scan, <module>_ms..., edges, planes, mapped, keyframe, loop_closed, degenerate.
+/// Written atomically.
+void write_timing_csv(const std::string& path, const std::vector<ScanResult>& results);
+
+}  // namespace dloam::io

@@ -1,0 +1,64 @@
+// Global map per keyframe: one point per world voxel, points move with their keyframe when a loop
+// closure corrects the keyframe poses, and the occupancy follows the moved points.
+#include <gtest/gtest.h>
+
+#include "dloam/core/global_map.hpp"
+
+using namespace dloam;
+
+namespace {
+Pose translation(double x, double y) {
+  Pose T = Pose::Identity();
+  T.translation() = Vec3(x, y, 0.0);
+  return T;
+}
+
+/// A 4 m x 4 m wall of points every 5 cm in the sensor's x = 5.1 plane (off the voxel boundaries:
+/// points are stored as floats).
+std::vector<Vec3> wall() {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 80; ++i)
+    for (int j = 0; j < 80; ++j) pts.emplace_back(5.1, -2.0 + 0.05 * i + 0.0123, 0.05 * j + 0.0123);
+  return pts;
+}
+}  // namespace
+
+TEST(GlobalMap, OneVoxelOwnerAndPointsMoveWithTheirKeyframe) {
+  GlobalMap map(0.2);
+  const std::vector<Vec3> pts = wall();
+  map.add(0, pts, translation(0, 0));
+  const std::size_t first = map.size();
+  EXPECT_NEAR(static_cast<double>(first), 20.0 * 20.0, 40.0);  // ~one point per 0.2 m voxel of the wall
+  map.add(1, pts, translation(0, 0));                          // the same wall again: nothing new
+  EXPECT_EQ(map.size(), first);
+  map.add(2, pts, translation(0, 4.0));  // the wall continued 4 m to the left: all new
+  EXPECT_NEAR(static_cast<double>(map.size()), 2.0 * first, 40.0);
+
+  // A loop closure says keyframe 2 was 1 m further along x: its points (only) move by 1 m.
+  const std::vector<Pose> corrected = {translation(0, 0), translation(0, 0), translation(1.0, 4.0)};
+  const std::vector<Vec3> out = map.points(corrected);
+  std::size_t at5 = 0, at6 = 0;
+  for (const Vec3& p : out) {
+    if (std::abs(p.x() - 5.1) < 1e-6) ++at5;
+    if (std::abs(p.x() - 6.1) < 1e-6) {
+      ++at6;
+      EXPECT_GE(p.y(), 2.0 - 1e-9);
+    }
+  }
+  EXPECT_NEAR(static_cast<double>(at5), static_cast<double>(first), 40.0);
+  EXPECT_EQ(at5 + at6, out.size());
+  EXPECT_GT(at6, 300u);
+
+  // After move(), the old place of keyframe 2's wall is free again and the new place is occupied.
+  map.move(corrected);
+  const std::size_t before = map.size();
+  map.add(3, pts, translation(0, 4.0));
+  EXPECT_NEAR(static_cast<double>(map.size() - before), static_cast<double>(first), 40.0);
+  map.add(4, pts, translation(1.0, 4.0));
+  EXPECT_LT(map.size() - before, first + 40);
+}
+
+TEST(GlobalMap, RejectsPointsOutsideItsRange) {
+  GlobalMap map(0.2);
+  EXPECT_THROW(map.add(0, {Vec3(1e6, 0, 0)}, Pose::Identity()), InputError);
+}
