@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_util.hpp"
 #include "dloam/io/kitti.hpp"
 
 namespace fs = std::filesystem;
@@ -18,20 +19,8 @@ namespace {
 
 const std::string kData = DLOAM_KITTI_0005;
 
-struct CommandResult {
-  int status = -1;
-  std::string output;
-};
-
-CommandResult run(const std::string& args) {
-  CommandResult r;
-  FILE* pipe = popen((std::string(DLOAM_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  while (fgets(buffer, sizeof(buffer), pipe) != nullptr) r.output += buffer;
-  r.status = pclose(pipe);
-  return r;
-}
+using CommandResult = test::CliRun;
+CommandResult run(const std::string& args) { return test::run_dloam(args); }
 
 nlohmann::json read_json(const fs::path& path) {
   std::ifstream in(path);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 
+#include "cli_util.hpp"
 #include "dloam/core/sensor.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/sensor_estimate.hpp"
@@ -17,6 +18,8 @@
 
 using namespace dloam;
 using namespace dloam::io;
+using dloam::test::CliRun;
+using dloam::test::run_dloam;
 using dloam::test::TempDir;
 using dloam::test::write_text;
 using ::testing::HasSubstr;
@@ -38,21 +41,6 @@ PointCloud synthetic_sweep(const SensorConfig& s, std::mt19937& rng) {
   return c;
 }
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
-
-CliRun run_dloam(const std::string& args) {
-  CliRun run;
-  FILE* pipe = popen((std::string(DLOAM_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
 }  // namespace
 
 TEST(SensorEstimate, FindsEveryPresetAndItsBeamCountFromSyntheticScans) {

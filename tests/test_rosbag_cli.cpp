@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdio>
 
+#include "cli_util.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/ros/pointcloud2.hpp"
 #include "rosbag_test_util.hpp"
@@ -18,22 +19,6 @@ namespace {
 
 using namespace dloam::test;  // NOLINT: the test helpers
 using ::testing::HasSubstr;
-
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
-
-CliRun run_dloam(const std::string& args) {
-  CliRun run;
-  FILE* pipe = popen((std::string(DLOAM_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) run.output += buf.data();
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
 
 TEST(Rosbag, CheckReportsEveryBadMessageOfABag) {
   TempDir dir;
