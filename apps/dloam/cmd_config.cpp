@@ -16,9 +16,7 @@ struct DumpArgs {
 };
 
 void run_dump(const DumpArgs& a) {
-  PipelineConfig config = io::default_config(a.preset);
-  if (!a.config_path.empty()) config = io::load_config(a.config_path, config);
-  fmt::print("{}", io::dump_config(config, a.section));
+  fmt::print("{}", io::dump_config(io::config_from(a.preset, a.config_path), a.section));
 }
 
 }  // namespace

@@ -39,8 +39,7 @@ struct RunArgs {
 
 PipelineConfig make_config(const RunArgs& a) {
   // The preset is the starting point; the file's keys override it (as `dloam config dump`).
-  PipelineConfig cfg = io::default_config(a.preset);
-  if (!a.config_path.empty()) cfg = io::load_config(a.config_path, cfg);
+  PipelineConfig cfg = io::config_from(a.preset, a.config_path);
   if (!a.detector.empty()) cfg.detection.detector = a.detector;
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;

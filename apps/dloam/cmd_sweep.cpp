@@ -81,10 +81,7 @@ void run_sweep(const SweepArgs& a) {
   std::vector<PipelineConfig> cfgs;
   for (std::size_t q = 0; q < a.sequences.size(); ++q) {
     const std::string path = a.configs.empty() ? "" : a.configs[std::min(q, a.configs.size() - 1)];
-    PipelineConfig cfg = io::default_config("HDL-64E");
-    if (!path.empty()) cfg = io::load_config(path, cfg);
-    io::validate_config(cfg, path.empty() ? "built-in config" : path);
-    cfgs.push_back(cfg);
+    cfgs.push_back(io::config_from("HDL-64E", path));
   }
   std::vector<Entry> entries{{"geometric", -1}};
   for (const std::string& model : a.models) entries.push_back({model, 0});

@@ -22,9 +22,7 @@ struct TrainArgs {
 };
 
 void run_train(const TrainArgs& a) {
-  PipelineConfig cfg = io::default_config(a.preset);
-  if (!a.config_path.empty()) cfg = io::load_config(a.config_path, cfg);
-  io::validate_config(cfg, a.config_path.empty() ? "built-in config" : a.config_path);
+  const PipelineConfig cfg = io::config_from(a.preset, a.config_path);
   std::vector<cnn::MosSequence> data;
   std::size_t frames = 0;
   for (const std::string& dir : a.sequences) {

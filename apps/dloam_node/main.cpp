@@ -19,9 +19,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, private_nh("~");
   const auto params = dloam::node::NodeParams::from(private_nh);
   try {
-    dloam::PipelineConfig config = dloam::io::default_config(params.preset);
-    if (!params.config.empty()) config = dloam::io::load_config(params.config, config);
-    dloam::io::validate_config(config, params.config.empty() ? "built-in config" : params.config);
+    dloam::PipelineConfig config = dloam::io::config_from(params.preset, params.config);
     if (!params.out.empty()) std::filesystem::create_directories(params.out);
     std::shared_ptr<dloam::MovingSegmenter> cnn;
 #ifdef DLOAM_WITH_TORCH

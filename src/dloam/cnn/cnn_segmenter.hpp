@@ -24,8 +24,4 @@ std::string resolve_model_path(const DetectionConfig& detection, const std::stri
 /// when the detector is cnn (null otherwise). Throws InputError for a missing or bad model file.
 std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir);
 
-/// Pads a bag tensor to the network's size multiples (rows to 8, columns to 16; columns wrap
-/// around, rows get zeros) and crops the output back. Exposed for tests.
-int padded_size(int n, int multiple);
-
 }  // namespace dloam::cnn

@@ -35,8 +35,7 @@ MosFrame prepare_frame(const PointCloud& cloud, const std::vector<Label>& labels
                    : semantic::is_moving(l) ? kTargetMoving
                                             : kTargetStatic;
   }
-  f.past.range = f.image.range;
-  f.past.pose = pose;
+  f.pose = pose;
   return f;
 }
 
@@ -75,13 +74,12 @@ RangeImageBag sample_bag(const MosSequence& seq, std::size_t k, int m, const Sen
   const MosFrame& f = seq.frames.at(k);
   std::vector<PastScan> past;
   for (int j = 1; j <= m && static_cast<std::size_t>(j) <= k; ++j) {
-    PastScan p = seq.frames[k - static_cast<std::size_t>(j)].past;
-    if (rng) p.pose = p.pose * random_perturbation(noise, *rng);
-    past.push_back(std::move(p));
+    const MosFrame& pf = seq.frames[k - static_cast<std::size_t>(j)];
+    past.push_back({pf.image.range, rng ? pf.pose * random_perturbation(noise, *rng) : pf.pose});
   }
   std::vector<const PastScan*> ptrs;
   for (const PastScan& p : past) ptrs.push_back(&p);
-  return make_range_image_bag(f.image, f.points, f.intensity, f.past.pose, ptrs, m, sensor);
+  return make_range_image_bag(f.image, f.points, f.intensity, f.pose, ptrs, m, sensor);
 }
 
 }  // namespace dloam::cnn

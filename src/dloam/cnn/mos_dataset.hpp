@@ -25,7 +25,7 @@ struct MosFrame {
   std::vector<Vec3> points;          ///< the nearest point of each valid pixel, de-skewed
   std::vector<float> intensity;      ///< per entry of `points`
   std::vector<std::uint8_t> target;  ///< rows*cols: kTargetStatic / kTargetMoving / kTargetIgnore
-  PastScan past;                     ///< range channel + ground-truth pose
+  Pose pose = Pose::Identity();      ///< ground-truth world pose
 };
 
 struct MosSequence {

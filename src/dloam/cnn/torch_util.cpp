@@ -1,7 +1,5 @@
 #include "dloam/cnn/torch_util.hpp"
 
-#include "dloam/cnn/cnn_segmenter.hpp"
-
 namespace dloam::cnn {
 
 int padded_size(int n, int multiple) { return (n + multiple - 1) / multiple * multiple; }

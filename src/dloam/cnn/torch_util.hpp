@@ -10,7 +10,10 @@
 
 namespace dloam::cnn {
 
-/// [1, C, rows, cols] view copy of the bag.
+/// n rounded up to a multiple of `multiple` (the network needs rows % 8 == 0, columns % 16 == 0).
+int padded_size(int n, int multiple);
+
+/// [1, C, rows, cols] copy of the bag.
 torch::Tensor bag_tensor(const RangeImageBag& bag);
 
 /// Logits [B, 1, H, W] for x [B, C, H, W] of any H, W.

@@ -13,6 +13,12 @@ namespace dloam::cnn {
 
 namespace {
 
+/// Pixel confusion of the moving class (labelled pixels only).
+struct PixelScore {
+  std::size_t tp = 0, fp = 0, fn = 0;
+  [[nodiscard]] double iou() const { return tp + fp + fn ? static_cast<double>(tp) / (tp + fp + fn) : 0.0; }
+};
+
 struct FrameRef {
   std::size_t seq = 0, frame = 0;
 };

@@ -47,10 +47,4 @@ struct TrainCallbacks {
 std::vector<EpochReport> train_mos_net(const std::vector<MosSequence>& data, const SensorConfig& sensor,
                                        const TrainOptions& options, const TrainCallbacks& callbacks = {});
 
-/// Moving-class IoU of a model on frames of prepared sequences (pixels, labelled only).
-struct PixelScore {
-  std::size_t tp = 0, fp = 0, fn = 0;
-  [[nodiscard]] double iou() const { return tp + fp + fn ? static_cast<double>(tp) / (tp + fp + fn) : 0.0; }
-};
-
 }  // namespace dloam::cnn

@@ -180,6 +180,11 @@ PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& b
   return config_from_yaml_string(read_file(yaml_path), yaml_path, base);
 }
 
+PipelineConfig config_from(const std::string& preset, const std::string& yaml_path) {
+  PipelineConfig base = default_config(preset);
+  return yaml_path.empty() ? base : load_config(yaml_path, base);
+}
+
 void validate_config(const PipelineConfig& config, const std::string& source) {
   PipelineConfig c = config;  // visit() takes non-const references
   Validator validator{source, ""};

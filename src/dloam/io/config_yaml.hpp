@@ -18,6 +18,9 @@ PipelineConfig default_config(const std::string& preset = "");
 /// naming the file and key path (e.g. "sensor.N_scna"); the result is validated.
 PipelineConfig load_config(const std::string& yaml_path);
 PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& base);
+/// What every front-end starts from: the preset's defaults, overridden by the YAML file when
+/// `yaml_path` is not empty (validated as load_config does).
+PipelineConfig config_from(const std::string& preset, const std::string& yaml_path);
 /// Same from YAML text; `source` names it in error messages.
 PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source = "<yaml>",
                                        const PipelineConfig& base = default_config());

@@ -64,23 +64,26 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   if (have_previous_) first_pair_done_ = true;
   out.points = (out.coarse_valid && deskew_on) ? deskew(raw, times, out.T_coarse) : std::move(deskewed);
 
-  DetectionResult det;
   SpeedMatrix S;
   out.checked = have_previous_;
   if (have_previous_) {
     S = compute_speed_matrix(seg.image, out.points, out.T_coarse, previous_range_, config_.sensor);
-    det = detect_dynamic(seg, S, config_.detection);
   } else {
     S.speed.assign(seg.pixel_label.size(), -1.0f);
+  }
+  // This scan's range image with its final de-skew, for the next speed matrix (and the CNN's bags).
+  remember_range(seg.image, out.points);
+  DetectionResult det;
+  if (cnn_) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
+    det = cnn_->process(seg, out.points, intensity, previous_range_, out.T_coarse, config_.detection,
+                        have_previous_ ? &S.speed : nullptr);
+  } else if (have_previous_) {
+    det = detect_dynamic(seg, S, config_.detection);
+  } else {
     det.cluster_dynamic.assign(static_cast<std::size_t>(seg.num_clusters) + 1, 0);
     det.ground_rejected.assign(seg.pixel_label.size(), 0);
     update_pixel_mask(seg, det);
   }
-  // This scan's range image with its final de-skew, for the next speed matrix.
-  remember_range(seg.image, out.points);
-  if (cnn_)  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
-    det = cnn_->process(seg, out.points, intensity, previous_range_, out.T_coarse, config_.detection,
-                        have_previous_ ? &S.speed : nullptr);
   if (config_.detection.pseudo_static) {
     TrackResult track = tracker_.update(seg, S, det, config_.detection.alpha_tracked);
     out.type1 = track.type1;
