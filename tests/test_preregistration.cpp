@@ -135,6 +135,50 @@ TEST(Preregistration, CoarseMotionFallsBackToPredictionWithoutObjects) {
   EXPECT_TRUE(r.T.isApprox(predicted));
 }
 
+TEST(Preregistration, CoarseMotionOutsideTheMotionGateIsRejected) {
+  // Poles and walls that pin the motion; the current scan is 0.25 m / 0.8 deg (yaw) or 0.6 m
+  // away from the prediction. Within the gate the ICP result is kept, beyond it the prediction.
+  std::mt19937 rng(3);
+  ObjectSet previous;
+  for (const Vec3& b : {Vec3(6, 3, -1.7), Vec3(-4, 5, -1.7), Vec3(12, -6, -1.7), Vec3(-9, -4, -1.7)}) {
+    const auto p = pole(b, kUp, 0.08, 4.0, rng);
+    previous.poles.insert(previous.poles.end(), p.begin(), p.end());
+  }
+  for (const auto& w : {patch({15, -8, -1.7}, {0, 16, 0}, {0, 0, 4}, 0.01, rng),
+                        patch({-6, 9, -1.7}, {14, 0, 0}, {0, 0, 4}, 0.01, rng)})
+    previous.planes.insert(previous.planes.end(), w.begin(), w.end());
+  FeatureMap target;
+  target.edges.build(previous.poles);
+  target.planes.build(previous.planes);
+  const auto seen_after = [&](const Pose& truth) {
+    ObjectSet current;
+    for (const Vec3& q : previous.poles) current.poles.push_back(truth.inverse() * q);
+    for (const Vec3& q : previous.planes) current.planes.push_back(truth.inverse() * q);
+    return current;
+  };
+  Vec6 xi;
+  xi << 0, 0, 0, 2.5, 0, 0;
+  const Pose predicted = exp_se3(xi);
+  PreRegistrationConfig c;
+  Vec6 small;
+  small << 0, 0, 0.8 * M_PI / 180.0, -0.25, 0.05, 0;
+  const Pose near_truth = predicted * exp_se3(small);
+  const CoarseResult kept = coarse_motion(seen_after(near_truth), target, predicted, c);
+  EXPECT_TRUE(kept.valid);
+  EXPECT_LT(translation_norm(near_truth.inverse() * kept.T), 0.02);
+
+  Vec6 jump;
+  jump << 0, 0, 0, -0.6, 0, 0;
+  const Pose far_truth = predicted * exp_se3(jump);
+  const CoarseResult rejected = coarse_motion(seen_after(far_truth), target, predicted, c);
+  EXPECT_FALSE(rejected.valid);
+  EXPECT_TRUE(rejected.T.isApprox(predicted));
+  c.max_translation_change = 1.0;  // a wider gate lets the same registration through
+  const CoarseResult wide = coarse_motion(seen_after(far_truth), target, predicted, c);
+  EXPECT_TRUE(wide.valid);
+  EXPECT_LT(translation_norm(far_truth.inverse() * wide.T), 0.02);
+}
+
 TEST(Preregistration, ForwardSearchTakesTheBestScoreAndTheSmallestTie) {
   Vec6 xi;
   xi << 0, 0, 0.02, 0.1, 0.05, 0;

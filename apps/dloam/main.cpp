@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   dloam::app::register_check(app);
   dloam::app::register_config(app);
   dloam::app::register_run(app);
+  dloam::app::register_calibrate(app);
 #ifdef DLOAM_WITH_TORCH
   dloam::app::register_train(app);
   dloam::app::register_sweep(app);

@@ -8,7 +8,9 @@ double ClusterVotes::static_fraction(int cluster, int min_known) const {
   return static_cast<double>(static_count[c]) / known[c];
 }
 
-ClusterVotes vote_clusters(const SegmentationResult& seg, const SpeedMatrix& S, double v_static) {
+ClusterVotes vote_clusters(const SegmentationResult& seg, const SpeedMatrix& S, double v_static,
+                           double v_max) {
+  const bool signs = S.behind.size() == S.speed.size();
   ClusterVotes v;
   const auto m = static_cast<std::size_t>(seg.num_clusters) + 1;
   v.known.assign(m, 0);
@@ -17,6 +19,7 @@ ClusterVotes vote_clusters(const SegmentationResult& seg, const SpeedMatrix& S, 
     const int l = seg.pixel_label[px];
     const float s = S.speed[px];
     if (l <= 0 || s < 0.0f) continue;
+    if (signs && S.behind[px] && s > v_max) continue;  // disoccluded: hidden in the previous scan
     ++v.known[static_cast<std::size_t>(l)];
     if (s < v_static) ++v.static_count[static_cast<std::size_t>(l)];
   }
@@ -29,7 +32,7 @@ DetectionResult detect_dynamic(const SegmentationResult& seg, const SpeedMatrix&
     throw InputError("detect_dynamic: speed matrix of " + std::to_string(S.speed.size()) +
                      " pixels, segmentation of " + std::to_string(seg.pixel_label.size()));
   DetectionResult det;
-  const ClusterVotes votes = vote_clusters(seg, S, config.v_static);
+  const ClusterVotes votes = vote_clusters(seg, S, config.v_static, config.v_max);
   det.cluster_dynamic.assign(static_cast<std::size_t>(seg.num_clusters) + 1, 0);
   det.static_fraction.assign(det.cluster_dynamic.size(), -1.0);
   for (int c = 1; c <= seg.num_clusters; ++c) {

@@ -1,6 +1,7 @@
 // Traditional two-frame dynamic-object detection (paper III.D.3.a): a pixel is static when its
 // speed (speed_matrix.hpp, eq. 13) is below v_static; a cluster is dynamic when fewer than alpha
-// of its pixels with a known speed are static. Ground pixels are re-verified: only those with a
+// of its pixels with a known speed are static; pixels uncovered by an occluder that moved away (more
+// than v_max behind the previous surface) do not vote. Ground pixels are re-verified: only those with a
 // speed below v_ground stay static ground (the others give no feature and do not enter the map).
 // Output: per-pixel masks and per-point SemanticKITTI labels (9 static, 251 moving).
 #pragma once
@@ -22,7 +23,12 @@ struct ClusterVotes {
   [[nodiscard]] double static_fraction(int cluster, int min_known) const;
 };
 
-ClusterVotes vote_clusters(const SegmentationResult& seg, const SpeedMatrix& S, double v_static);
+/// Pixels of known speed, and those below v_static, per cluster. A pixel whose point lies more than
+/// `v_max` behind the previous scan's surface does not vote: no object moves that far in one scan, so
+/// the previous scan's surface there was an occluder that has since moved (disocclusion), which says
+/// nothing about this point's motion.
+ClusterVotes vote_clusters(const SegmentationResult& seg, const SpeedMatrix& S, double v_static,
+                           double v_max);
 
 struct DetectionResult {
   std::vector<std::uint8_t> cluster_dynamic;  ///< per cluster label (0..m), 1 = dynamic

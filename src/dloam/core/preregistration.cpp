@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "dloam/core/se3.hpp"
 #include "dloam/core/voxel_grid.hpp"
 
 namespace dloam {
@@ -162,6 +163,11 @@ CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, c
   FeatureSource src{thin(current.poles, 300), thin(current.planes, 400), {}, {}};
   CoarseResult r =
       trimmed_registration(src, target, predicted, std::max(1, config.N_coarse), config.trim_ratio, p);
+  // The motion gate: a jump away from the prediction that no vehicle makes in one scan.
+  const Pose change = predicted.inverse() * r.T;
+  if (rotation_angle(change) > config.max_rotation_change_deg * M_PI / 180.0 ||
+      translation_norm(change) > config.max_translation_change)
+    r.valid = false;
   if (!r.valid) r.T = predicted;
   return r;
 }

@@ -60,7 +60,9 @@ Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score);
 
 /// T_coarse between the object sets of the current scan and of the previous one (`target`, built
-/// from the previous ObjectSet), starting from the constant-velocity prediction.
+/// from the previous ObjectSet), starting from the constant-velocity prediction. Invalid (and
+/// equal to the prediction) with too few matches or when it leaves the motion gate around the
+/// prediction (config.max_rotation_change_deg / max_translation_change).
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
                            const PreRegistrationConfig& config);
 

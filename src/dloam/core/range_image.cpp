@@ -1,5 +1,8 @@
+// Range-image projection (paper eqs. 4-6): rows from the sensor's beam table (BeamLookup, which
+// also accounts for beam origin heights), columns from the azimuth in sweep order.
 #include "dloam/core/range_image.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dloam {
@@ -9,8 +12,21 @@ int azimuth_column(double x, double y, int cols) {
   return c >= cols ? cols - 1 : c;
 }
 
+double fast_atan2(double y, double x) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (mx <= 0.0) return 0.0;
+  const double a = mn / mx, s = a * a;
+  double r =
+      a * (0.99997726 +
+           s * (-0.33262347 + s * (0.19354346 + s * (-0.11643287 + s * (0.05265332 + s * -0.01172120)))));
+  if (ay > ax) r = 0.5 * M_PI - r;
+  if (x < 0.0) r = M_PI - r;
+  return y < 0.0 ? -r : r;
+}
+
 double azimuth_time(double x, double y) {
-  double t = (M_PI - std::atan2(y, x)) / (2.0 * M_PI);
+  double t = (M_PI - fast_atan2(y, x)) / (2.0 * M_PI);
   if (t >= 1.0) t -= 1.0;
   if (t < 0.0) t += 1.0;
   return t;
@@ -29,11 +45,12 @@ RangeImage project(const std::vector<Vec3>& points, const SensorConfig& sensor) 
   img.point_of_pixel.assign(n_pix, -1);
   img.row_of_point.assign(points.size(), -1);
   img.col_of_point.assign(points.size(), -1);
+  const BeamLookup lookup(sensor);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
     const double r = p.norm();
     if (!(r >= sensor.min_range && r <= sensor.max_range)) continue;  // also rejects NaN
-    const int row = sensor.row_of_elevation(point_elevation_deg(p));
+    const int row = lookup.row(p);
     if (row < 0) continue;
     const int col = azimuth_column(p.x(), p.y(), img.cols);
     img.row_of_point[i] = row;

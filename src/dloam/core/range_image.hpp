@@ -8,7 +8,8 @@
 
 namespace dloam {
 
-/// Row v counts beams from the bottom (row 0 = Pit_bottom, eq. 4). Column u counts the
+/// Row v counts beams from the bottom (row 0 = Pit_bottom, eq. 4; the beam table of the sensor
+/// when it has one, searched from each beam's origin height: SensorConfig::row_of_point). Column u counts the
 /// azimuth clockwise seen from above starting at the rear (-x) of the sensor, which is also
 /// the sweep order of a Velodyne/Ouster: u / Horizon_SCAN is the point's time in the sweep.
 struct RangeImage {
@@ -32,6 +33,9 @@ struct RangeImage {
 
 /// Column of a direction (paper eq. 5, with the sweep-order convention above).
 int azimuth_column(double x, double y, int cols);
+/// atan2 by a minimax polynomial of atan on [0, 1]: max error 1.7e-6 rad (a column of a
+/// 2048-column image is 3e-3 rad), exact on the axes, several times cheaper than std::atan2.
+double fast_atan2(double y, double x);
 /// Time in [0, 1) of the sweep for a point at (x, y), from its azimuth (rear start, clockwise).
 double azimuth_time(double x, double y);
 /// Elevation (deg) of a point above the sensor's horizontal plane.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace dloam {
@@ -12,7 +13,8 @@ namespace dloam {
 namespace {
 
 /// Distance of r to the range interval of the valid pixels among (rows r0,r1) x (cols c0,c1).
-float bracket_distance(const std::vector<float>& prev, int cols, int r0, int r1, int c0, int c1, float r) {
+float bracket_distance(const std::vector<float>& prev, int cols, int r0, int r1, int c0, int c1, float r,
+                       bool& behind) {
   float lo = 0.0f, hi = -1.0f;
   for (int v : {r0, r1})
     for (int u : {c0, c1}) {
@@ -25,23 +27,9 @@ float bracket_distance(const std::vector<float>& prev, int cols, int r0, int r1,
         hi = std::max(hi, rp);
       }
     }
+  behind = hi >= 0.0f && r > hi;
   if (hi < 0.0f) return -1.0f;
   return r < lo ? lo - r : (r > hi ? r - hi : 0.0f);
-}
-
-/// atan2 by a minimax polynomial of atan on [0, 1] (max error 1.7e-6 rad; a column of a
-/// 2048-column image is 3e-3 rad).
-double fast_atan2(double y, double x) {
-  const double ax = std::abs(x), ay = std::abs(y);
-  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
-  if (mx <= 0.0) return 0.0;
-  const double a = mn / mx, s = a * a;
-  double r =
-      a * (0.99997726 +
-           s * (-0.33262347 + s * (0.19354346 + s * (-0.11643287 + s * (0.05265332 + s * -0.01172120)))));
-  if (ay > ax) r = 0.5 * M_PI - r;
-  if (x < 0.0) r = M_PI - r;
-  return y < 0.0 ? -r : r;
 }
 
 /// Eqs. 4-5 for the points seen from the previous frame, without per-point asin / hypot / search:
@@ -60,6 +48,7 @@ class Projector {
       upper[static_cast<std::size_t>(v)] = std::sin(0.5 * (e + next) * kDeg);
       beam_sin_.push_back(std::sin(e * kDeg));
     }
+    if (!s.beam_vertical_offsets_m.empty()) beams_.emplace(s);  // beams from their own origins
     lo_ = std::sin((1.5 * s.beam_elevation_deg(0) - 0.5 * s.beam_elevation_deg(1)) * kDeg);
     scale_ = kBins / (upper.back() - lo_);
     table_.resize(kBins);
@@ -72,10 +61,15 @@ class Projector {
   }
   /// False when q (at range r > 0) is outside the vertical field of view.
   bool locate(const Vec3& q, double r, int& row, int& row2, int& col, int& col2) const {
-    const double b = (q.z() / r - lo_) * scale_;
-    if (!(b >= 0.0 && b < kBins)) return false;
-    row = table_[static_cast<std::size_t>(b)];
-    row2 = std::clamp(q.z() / r > beam_sin_[static_cast<std::size_t>(row)] ? row + 1 : row - 1, 0, rows_ - 1);
+    if (beams_) {
+      if (!beams_->locate(q, row, row2)) return false;
+    } else {
+      const double b = (q.z() / r - lo_) * scale_;
+      if (!(b >= 0.0 && b < kBins)) return false;
+      row = table_[static_cast<std::size_t>(b)];
+      row2 =
+          std::clamp(q.z() / r > beam_sin_[static_cast<std::size_t>(row)] ? row + 1 : row - 1, 0, rows_ - 1);
+    }
     double t = (M_PI - fast_atan2(q.y(), q.x())) / (2.0 * M_PI);
     t = (t - std::floor(t)) * cols_;
     col = std::min(static_cast<int>(t), cols_ - 1);
@@ -89,18 +83,20 @@ class Projector {
   double lo_ = 0.0, scale_ = 1.0;
   std::vector<int> table_;
   std::vector<double> beam_sin_;
+  std::optional<BeamLookup> beams_;  ///< sensors with beam origin heights (SensorConfig::row_of_point)
 };
 
 /// Speed (bracket distance) of the current point seen from the previous frame at q, and the
 /// previous pixel it lands in (-1: outside the field of view or at the origin, speed -1).
 float point_speed(const Vec3& q, const std::vector<float>& previous, const Projector& proj, int cols,
-                  int& pixel) {
+                  int& pixel, bool& behind) {
   pixel = -1;
+  behind = false;
   const double r = q.norm();
   int row = 0, row2 = 0, col = 0, col2 = 0;
   if (!(r > 0.0) || !proj.locate(q, r, row, row2, col, col2)) return -1.0f;
   pixel = row * cols + col;
-  return bracket_distance(previous, cols, row, row2, col, col2, static_cast<float>(r));
+  return bracket_distance(previous, cols, row, row2, col, col2, static_cast<float>(r), behind);
 }
 
 void check_sizes(const RangeImage& current, const std::vector<float>& previous, const SensorConfig& sensor,
@@ -123,6 +119,7 @@ SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Ve
   S.cols = cols;
   S.speed.assign(current.range.size(), -1.0f);
   S.previous_pixel.assign(current.range.size(), -1);
+  S.behind.assign(current.range.size(), 0);
   const Projector proj(sensor);
   // In point order (the points' memory is read sequentially), each point of a pixel once.
   const auto n = static_cast<int>(current_points.size());
@@ -131,8 +128,10 @@ SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Ve
       const int px = current.pixel_of_point(static_cast<std::size_t>(i));
       if (px < 0 || current.point_of_pixel[static_cast<std::size_t>(px)] != i) continue;
       const Vec3 q = current_to_previous * current_points[static_cast<std::size_t>(i)];
+      bool behind = false;
       S.speed[static_cast<std::size_t>(px)] =
-          point_speed(q, previous, proj, cols, S.previous_pixel[static_cast<std::size_t>(px)]);
+          point_speed(q, previous, proj, cols, S.previous_pixel[static_cast<std::size_t>(px)], behind);
+      S.behind[static_cast<std::size_t>(px)] = behind ? 1 : 0;
     }
   });
   return S;
@@ -145,13 +144,14 @@ double static_area(const RangeImage& current, const std::vector<Vec3>& current_p
   check_sizes(current, previous, sensor, "static_area");
   double n = 0.0;
   int pixel = -1;
+  bool behind = false;
   const Projector proj(sensor);
   const auto step = static_cast<std::size_t>(std::max(1, stride));
   for (std::size_t px = 0; px < pixel_label.size(); px += step) {
     const int i = current.point_of_pixel[px];
     if (i < 0 || pixel_label[px] <= 0) continue;
     const Vec3 q = current_to_previous * current_points[static_cast<std::size_t>(i)];
-    const float s = point_speed(q, previous, proj, sensor.Horizon_SCAN, pixel);
+    const float s = point_speed(q, previous, proj, sensor.Horizon_SCAN, pixel, behind);
     if (s >= 0.0f && s < v_static) n += q.squaredNorm();
   }
   return n;

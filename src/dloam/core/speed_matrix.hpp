@@ -10,6 +10,7 @@
 // up to pixel borders, a few times cheaper).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "dloam/core/range_image.hpp"
@@ -25,6 +26,10 @@ struct SpeedMatrix {
   std::vector<float> speed;
   /// Per pixel of the current image: the pixel of the previous image it lands in, or -1.
   std::vector<int> previous_pixel;
+  /// Per pixel of the current image: 1 when the current point lies behind every previous return
+  /// around it (the previous scan saw a surface in front of it: it was hidden then, or it moved
+  /// away), 0 otherwise.
+  std::vector<std::uint8_t> behind;
   [[nodiscard]] bool known(int px) const { return speed[static_cast<std::size_t>(px)] >= 0.0f; }
 };
 

@@ -31,7 +31,9 @@ void visit(SensorConfig& c, V& v) {
   v("N_scan", c.N_scan, "number of beams = range-image rows (eq. 4)", within(2, 512));
   v("Horizon_SCAN", c.Horizon_SCAN, "range-image columns = 2 pi / R_horiz (eq. 5)", within(16, 16384));
   v("beam_elevations_deg", c.beam_elevations_deg,
-    "beam elevations (deg), bottom beam first; [] = uniform from Pit_bottom to fov_top", Range{});
+    "beam elevations (deg), bottom beam first; [] = uniform from Pit_bottom to fov_top", within(-89, 89));
+  v("beam_vertical_offsets_m", c.beam_vertical_offsets_m,
+    "height of each beam's origin (m), bottom beam first; [] = all 0", within(-1, 1));
   v("Pit_bottom", c.Pit_bottom, "lowest beam pitch (deg), Pit_bottom of eq. 4", within(-90, 90));
   v("fov_top", c.fov_top, "highest beam pitch (deg); R_vert = span / (N_scan - 1)", within(-90, 90));
   v("min_range", c.min_range, "points closer than this (m) are dropped (ego vehicle)", at_least(0));
@@ -68,6 +70,10 @@ void visit(PreRegistrationConfig& c, V& v) {
     Range{0, 1, false, true});
   v("search_range", c.search_range, "m: forward translation searched for the first scan pair's T_coarse",
     at_least(0));
+  v("max_rotation_change_deg", c.max_rotation_change_deg,
+    "deg: T_coarse rotating this much more than the constant-velocity prediction is rejected", at_least(0));
+  v("max_translation_change", c.max_translation_change,
+    "m: T_coarse moving this much farther than the constant-velocity prediction is rejected", at_least(0));
 }
 
 template <class V>
@@ -86,6 +92,8 @@ void visit(DetectionConfig& c, V& v) {
     at_least(0));
   v("v_ground", c.v_ground, "ground re-verification speed threshold (eq. 13, m per scan)", at_least(0));
   v("alpha", c.alpha, "a cluster with less than alpha static points is dynamic", within(0, 1));
+  v("v_max", c.v_max, "pixels farther than this behind the previous scan's surface do not vote (m per scan)",
+    at_least(0));
   v("N_min_dynamic", c.N_min_dynamic, "clusters with fewer pixels of known speed stay static", at_least(1));
   v("pseudo_static", c.pseudo_static, "track previous labels of objects (stop-and-go, pseudo-static)",
     Range{});
@@ -119,7 +127,8 @@ template <class V>
 void visit(OdometryConfig& c, V& v) {
   v("max_iterations", c.max_iterations, "LM iterations per step (planes: tz roll pitch; edges: tx ty yaw)",
     at_least(1));
-  v("max_correspondence", c.max_correspondence, "nearest-feature search radius (m)", above(0));
+  v("max_correspondence", c.max_correspondence, "nearest-feature search radius (m) around the initial guess",
+    above(0));
   v("weight_compensation", c.weight_compensation, "weight features by s_i (1 - r_horiz / |theta|) (eq. 15)",
     Range{});
   v("pseudo_static_rejection", c.pseudo_static_rejection, "RANSAC rejection of pseudo-static features",

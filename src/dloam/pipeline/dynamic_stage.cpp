@@ -1,16 +1,37 @@
 #include "dloam/pipeline/dynamic_stage.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <limits>
+
 #include "dloam/core/deskew.hpp"
+#include "dloam/core/range_image.hpp"
 #include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
 
 namespace dloam {
 
 void DynamicStage::remember_range(const RangeImage& image, const std::vector<Vec3>& points) {
+  // Columns from the final de-skew: the segmentation assigned the pixels before it, and at speed
+  // the de-skew moves points by more than a column (2.5 m per sweep at 90 km/h). The rows stay
+  // (the de-skew barely changes a point's elevation). The nearest point of a pixel wins.
+  const auto n = static_cast<int>(points.size());
+  std::vector<int> pixel(points.size(), -1);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 8192), [&](const tbb::blocked_range<int>& range) {
+    for (int i = range.begin(); i < range.end(); ++i) {
+      const int row = image.row_of_point[static_cast<std::size_t>(i)];
+      const Vec3& p = points[static_cast<std::size_t>(i)];
+      if (row >= 0)
+        pixel[static_cast<std::size_t>(i)] = image.pixel(row, azimuth_column(p.x(), p.y(), image.cols));
+    }
+  });
   previous_range_.assign(image.range.size(), 0.0f);
-  for (std::size_t px = 0; px < previous_range_.size(); ++px) {
-    const int i = image.point_of_pixel[px];
-    if (i >= 0) previous_range_[px] = static_cast<float>(points[static_cast<std::size_t>(i)].norm());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (pixel[i] < 0) continue;
+    float& slot = previous_range_[static_cast<std::size_t>(pixel[i])];
+    const auto r = static_cast<float>(points[i].norm());
+    if (slot == 0.0f || r < slot) slot = r;
   }
 }
 
@@ -18,13 +39,22 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
                                       const std::vector<Vec3>& deskewed, const SegmentationResult& seg,
                                       const Pose& predicted, ObjectSet& objects) {
   const PreRegistrationConfig& pre = config_.preregistration;
-  // Score of a forward translation: cluster pixels that look static with it (subsampled).
-  constexpr double kStep = 0.2;  // m
-  const auto score = [&](const Pose& T) {
-    return static_area(seg.image, deskewed, seg.pixel_label, T, previous_range_, config_.sensor, kStep, 3);
+  // Score of a forward translation: cluster pixels that look static with it (subsampled), with a
+  // static threshold matching the step. A coarse search, then a fine one around its best: an
+  // error of half a coarse step already exceeds v_static on surfaces facing the motion.
+  const auto score_with = [&](double v) {
+    return [&, v](const Pose& T) {
+      return static_area(seg.image, deskewed, seg.pixel_label, T, previous_range_, config_.sensor, v, 3);
+    };
   };
-  const Pose start = search_forward_translation(predicted, pre.search_range, kStep, score);
-  CoarseResult c = coarse_motion(objects, *previous_objects_, start, pre);
+  constexpr double kStep = 0.2;       // m
+  constexpr double kFineStep = 0.04;  // m
+  Pose start = search_forward_translation(predicted, pre.search_range, kStep, score_with(kStep));
+  start = search_forward_translation(start, kStep, kFineStep, score_with(kFineStep));
+  // The search result is no motion prior: the object ICP may move far from it (no motion gate).
+  PreRegistrationConfig ungated = pre;
+  ungated.max_rotation_change_deg = ungated.max_translation_change = std::numeric_limits<double>::infinity();
+  CoarseResult c = coarse_motion(objects, *previous_objects_, start, ungated);
   c.valid = true;  // the search result when the objects do not constrain the motion
   if (!times.empty() && !first_times_.empty()) {
     // Both scans de-skewed with the found motion, then the objects registered again.
@@ -35,7 +65,7 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
     previous_objects_->edges.build(std::move(prev.poles));
     previous_objects_->planes.build(std::move(prev.planes));
     objects = extract_objects(deskew(raw, times, c.T), seg, pre);
-    const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, pre);
+    const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, ungated);
     if (refined.valid) c = refined;
   }
   first_raw_ = {};
