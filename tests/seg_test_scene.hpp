@@ -78,6 +78,33 @@ inline double ray_cylinder(const Vec3& d, const Cylinder& c) {
 }
 }  // namespace detail
 
+/// The nearest hit along a ray so far: distance and what was hit.
+struct Nearest {
+  double t = detail::kInf;
+  int id = -1;
+  void consider(double t_hit, int which) {
+    if (t_hit < t) t = t_hit, id = which;
+  }
+};
+
+/// Calls f(row, col, d) with the unit ray d through the centre of every pixel of the sensor's
+/// range image (column centres in sweep order, range_image.hpp).
+template <class F>
+void for_each_pixel_ray(const SensorConfig& sensor, F&& f) {
+  for (int v = 0; v < sensor.N_scan; ++v) {
+    const double e = sensor.beam_elevation_deg(v) * M_PI / 180.0;
+    for (int u = 0; u < sensor.Horizon_SCAN; ++u) {
+      const double a = M_PI - 2.0 * M_PI * (u + 0.5) / sensor.Horizon_SCAN;
+      f(v, u, Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)));
+    }
+  }
+}
+
+/// Distance along the unit ray d to flat ground `height` below the sensor (inf looking up).
+inline double ground_distance(const Vec3& d, double height) {
+  return d.z() < 0.0 ? -height / d.z() : detail::kInf;
+}
+
 /// Casts one ray through every pixel centre of the sensor's range image.
 inline Scene make_scene() {
   Scene s;
@@ -86,28 +113,19 @@ inline Scene make_scene() {
   const double e25 = s.sensor.beam_elevation_deg(25) * M_PI / 180.0;
   const double zc = 15.0 * std::tan(e25);
   s.sign = Box{{15.0, 4.0, zc - 0.08}, {15.05, 5.0, zc + 0.08}};
-  for (int v = 0; v < s.sensor.N_scan; ++v) {
-    const double e = s.sensor.beam_elevation_deg(v) * M_PI / 180.0;
-    for (int u = 0; u < s.sensor.Horizon_SCAN; ++u) {
-      const double a = M_PI - 2.0 * M_PI * (u + 0.5) / s.sensor.Horizon_SCAN;  // column centre
-      const Vec3 d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      double best = d.z() < 0.0 ? -s.height / d.z() : detail::kInf;
-      int id = kGround;
-      auto consider = [&](double t, int which) {
-        if (t < best) best = t, id = which;
-      };
-      consider(detail::ray_cylinder(d, s.pole), kPole);
-      consider(detail::ray_box(d, s.building), kBuilding);
-      consider(detail::ray_box(d, s.rear_wall), kRearWall);
-      consider(detail::ray_box(d, s.sign), kSign);
-      consider(detail::ray_box(d, s.post), kPost);
-      if (best > s.sensor.max_range) continue;
-      s.points.push_back(best * d);
-      s.hit.push_back(id);
-      s.row.push_back(v);
-      s.col.push_back(u);
-    }
-  }
+  for_each_pixel_ray(s.sensor, [&](int v, int u, const Vec3& d) {
+    Nearest n{ground_distance(d, s.height), kGround};
+    n.consider(detail::ray_cylinder(d, s.pole), kPole);
+    n.consider(detail::ray_box(d, s.building), kBuilding);
+    n.consider(detail::ray_box(d, s.rear_wall), kRearWall);
+    n.consider(detail::ray_box(d, s.sign), kSign);
+    n.consider(detail::ray_box(d, s.post), kPost);
+    if (n.t > s.sensor.max_range) return;
+    s.points.push_back(n.t * d);
+    s.hit.push_back(n.id);
+    s.row.push_back(v);
+    s.col.push_back(u);
+  });
   return s;
 }
 

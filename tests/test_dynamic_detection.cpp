@@ -34,24 +34,15 @@ Frame cast(double sx, double car_x, const SensorConfig& sensor) {
   const test::Cylinder pole{9.0 - sx, -5.0, 0.15, -1.73, 2.5};
   const test::Box car{{car_x - sx, -1.0, -1.73}, {car_x + 4.0 - sx, 1.0, -0.23}};
   Frame f;
-  for (int v = 0; v < sensor.N_scan; ++v) {
-    const double e = sensor.beam_elevation_deg(v) * M_PI / 180.0;
-    for (int u = 0; u < sensor.Horizon_SCAN; ++u) {
-      const double a = M_PI - 2.0 * M_PI * (u + 0.5) / sensor.Horizon_SCAN;
-      const Vec3 d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      double best = d.z() < 0.0 ? -1.73 / d.z() : test::detail::kInf;
-      int id = kGround;
-      auto consider = [&](double t, int which) {
-        if (t < best) best = t, id = which;
-      };
-      consider(ray_box(d, building), kBuilding);
-      consider(ray_cylinder(d, pole), kPole);
-      consider(ray_box(d, car), kCar);
-      if (best > sensor.max_range) continue;
-      f.points.push_back(best * d);
-      f.id.push_back(id);
-    }
-  }
+  test::for_each_pixel_ray(sensor, [&](int, int, const Vec3& d) {
+    test::Nearest n{test::ground_distance(d, 1.73), kGround};
+    n.consider(ray_box(d, building), kBuilding);
+    n.consider(ray_cylinder(d, pole), kPole);
+    n.consider(ray_box(d, car), kCar);
+    if (n.t > sensor.max_range) return;
+    f.points.push_back(n.t * d);
+    f.id.push_back(n.id);
+  });
   f.seg = segment(f.points, sensor, SegmentationConfig{});
   return f;
 }

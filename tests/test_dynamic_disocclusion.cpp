@@ -31,24 +31,15 @@ Frame cast(double van_y, const SensorConfig& sensor) {
   const test::Box post{{14.0, -0.5, -1.73}, {14.3, 0.5, -0.23}};
   const test::Box van{{8.0, van_y, -1.73}, {12.0, van_y + 2.0, 0.77}};
   Frame f;
-  for (int v = 0; v < sensor.N_scan; ++v) {
-    const double e = sensor.beam_elevation_deg(v) * M_PI / 180.0;
-    for (int u = 0; u < sensor.Horizon_SCAN; ++u) {
-      const double a = M_PI - 2.0 * M_PI * (u + 0.5) / sensor.Horizon_SCAN;
-      const Vec3 d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      double best = d.z() < 0.0 ? -1.73 / d.z() : test::detail::kInf;
-      int id = kGround;
-      auto consider = [&](double t, int which) {
-        if (t < best) best = t, id = which;
-      };
-      consider(test::detail::ray_box(d, wall), kWall);
-      consider(test::detail::ray_box(d, post), kPost);
-      consider(test::detail::ray_box(d, van), kVan);
-      if (best > sensor.max_range) continue;
-      f.points.push_back(best * d);
-      f.id.push_back(id);
-    }
-  }
+  test::for_each_pixel_ray(sensor, [&](int, int, const Vec3& d) {
+    test::Nearest n{test::ground_distance(d, 1.73), kGround};
+    n.consider(test::detail::ray_box(d, wall), kWall);
+    n.consider(test::detail::ray_box(d, post), kPost);
+    n.consider(test::detail::ray_box(d, van), kVan);
+    if (n.t > sensor.max_range) return;
+    f.points.push_back(n.t * d);
+    f.id.push_back(n.id);
+  });
   f.seg = segment(f.points, sensor, SegmentationConfig{});
   return f;
 }

@@ -32,19 +32,14 @@ struct Frame {
 Frame cast(double rear_x, const SensorConfig& sensor) {
   const test::Box truck{{rear_x, -5.2, -1.73}, {rear_x + 9.0, -2.8, 1.27}};
   Frame f;
-  for (int v = 0; v < sensor.N_scan; ++v) {
-    const double e = sensor.beam_elevation_deg(v) * M_PI / 180.0;
-    for (int u = 0; u < sensor.Horizon_SCAN; ++u) {
-      const double a = M_PI - 2.0 * M_PI * (u + 0.5) / sensor.Horizon_SCAN;
-      const Vec3 d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-      const double ground = d.z() < 0.0 ? -1.73 / d.z() : test::detail::kInf;
-      const double t_truck = test::detail::ray_box(d, truck);
-      const double t = std::min(ground, t_truck);
-      if (t > sensor.max_range) continue;
-      f.points.push_back(t * d);
-      f.truck.push_back(t_truck <= ground);
-    }
-  }
+  test::for_each_pixel_ray(sensor, [&](int, int, const Vec3& d) {
+    const double ground = test::ground_distance(d, 1.73);
+    const double t_truck = test::detail::ray_box(d, truck);
+    const double t = std::min(ground, t_truck);
+    if (t > sensor.max_range) return;
+    f.points.push_back(t * d);
+    f.truck.push_back(t_truck <= ground);
+  });
   f.seg = segment(f.points, sensor, SegmentationConfig{});
   return f;
 }

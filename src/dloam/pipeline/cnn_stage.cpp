@@ -9,10 +9,15 @@ DetectionResult CnnStage::process(const SegmentationResult& seg, const std::vect
   const Pose pose = first_ ? Pose::Identity() : latest_ * T_coarse;
   const RangeImageBag bag = history_.bag(seg.image, points, intensity, pose, first_ ? nullptr : speed1);
   DetectionResult d = decide_from_probability(seg, net_->moving_probability(bag), config);
+  remember(std::move(range), T_coarse);
+  return d;
+}
+
+void CnnStage::remember(std::vector<float> range, const Pose& T_coarse) {
+  const Pose pose = first_ ? Pose::Identity() : latest_ * T_coarse;
   history_.push(std::move(range), pose);
   latest_ = pose;
   first_ = false;
-  return d;
 }
 
 void CnnStage::refine_latest(const Pose& pose) {

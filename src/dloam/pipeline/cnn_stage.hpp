@@ -1,7 +1,8 @@
 // The CNN detector inside the pipeline (paper III.D.3.b): keeps the m most recent scans with the
 // pipeline's own poses, builds the current scan's range image bag (range_image_bag.hpp) with the
 // pose predicted by T_coarse, asks the learned segmenter for per-pixel moving probabilities and
-// turns them into the same cluster decision as the geometric detector (cnn_decision.hpp).
+// turns them into the same cluster decision as the geometric detector (cnn_decision.hpp). Until m
+// scans are kept the bag lacks speed images and the two-frame detector decides (dynamic_stage).
 #pragma once
 
 #include <memory>
@@ -25,6 +26,10 @@ class CnnStage {
   DetectionResult process(const SegmentationResult& seg, const std::vector<Vec3>& points,
                           const std::vector<float>& intensity, std::vector<float> range, const Pose& T_coarse,
                           const DetectionConfig& config, const std::vector<float>* speed1 = nullptr);
+  /// True once m scans are kept: the bag of the next scan has all its speed images.
+  [[nodiscard]] bool ready() const { return history_.size() >= static_cast<std::size_t>(history_.m()); }
+  /// Keeps the scan for the next bags without running the network (another detector decided it).
+  void remember(std::vector<float> range, const Pose& T_coarse);
   /// The refined pose of the scan just processed (the odometry's), for the next bags.
   void refine_latest(const Pose& pose);
 

@@ -104,16 +104,19 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   // This scan's range image with its final de-skew, for the next speed matrix (and the CNN's bags).
   remember_range(seg.image, out.points);
   DetectionResult det;
-  if (cnn_) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
+  if (cnn_ && cnn_->ready()) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
     det = cnn_->process(seg, out.points, intensity, previous_range_, out.T_coarse, config_.detection,
                         have_previous_ ? &S.speed : nullptr);
   } else if (have_previous_) {
+    // The geometric detector, also for the CNN's first m scans: their bags lack speed images, and
+    // a drive's first motion must not lock onto co-moving traffic.
     det = detect_dynamic(seg, S, config_.detection);
   } else {
     det.cluster_dynamic.assign(static_cast<std::size_t>(seg.num_clusters) + 1, 0);
     det.ground_rejected.assign(seg.pixel_label.size(), 0);
     update_pixel_mask(seg, det);
   }
+  if (cnn_ && !cnn_->ready()) cnn_->remember(previous_range_, out.T_coarse);
   if (config_.detection.pseudo_static) {
     TrackResult track = tracker_.update(seg, S, det, config_.detection.alpha_tracked);
     out.type1 = track.type1;
