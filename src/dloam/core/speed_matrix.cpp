@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <string>
 
 namespace dloam {
@@ -32,58 +31,24 @@ float bracket_distance(const std::vector<float>& prev, int cols, int r0, int r1,
   return r < lo ? lo - r : (r > hi ? r - hi : 0.0f);
 }
 
-/// Eqs. 4-5 for the points seen from the previous frame, without per-point asin / hypot / search:
-/// the row from a table over sin(elevation) = z / r, the column from fast_atan2. Also the
-/// bracketing row and column (pixel centres at the row elevations and at col + 0.5).
+/// Eqs. 4-5 for the points seen from the previous frame: the row and its bracketing neighbour from
+/// the sensor's BeamLookup (the same rows as the range image, beam origins included), the column
+/// from the azimuth and its bracketing neighbour (pixel centres at col + 0.5).
 class Projector {
  public:
-  explicit Projector(const SensorConfig& s) : rows_(s.N_scan), cols_(s.Horizon_SCAN) {
-    // Row v covers the elevations between the midpoints to its neighbours (as row_of_elevation),
-    // the outer rows half a spacing beyond their beams; in sin(elevation), filled bin by bin.
-    constexpr double kDeg = M_PI / 180.0;
-    std::vector<double> upper(static_cast<std::size_t>(rows_));  // sin of each row's upper bound
-    for (int v = 0; v < rows_; ++v) {
-      const double e = s.beam_elevation_deg(v);
-      const double next = v + 1 < rows_ ? s.beam_elevation_deg(v + 1) : 2.0 * e - s.beam_elevation_deg(v - 1);
-      upper[static_cast<std::size_t>(v)] = std::sin(0.5 * (e + next) * kDeg);
-      beam_sin_.push_back(std::sin(e * kDeg));
-    }
-    if (!s.beam_vertical_offsets_m.empty()) beams_.emplace(s);  // beams from their own origins
-    lo_ = std::sin((1.5 * s.beam_elevation_deg(0) - 0.5 * s.beam_elevation_deg(1)) * kDeg);
-    scale_ = kBins / (upper.back() - lo_);
-    table_.resize(kBins);
-    int v = 0;
-    for (int b = 0; b < kBins; ++b) {
-      const double x = lo_ + (b + 0.5) / scale_;
-      while (v + 1 < rows_ && x >= upper[static_cast<std::size_t>(v)]) ++v;
-      table_[static_cast<std::size_t>(b)] = v;
-    }
-  }
-  /// False when q (at range r > 0) is outside the vertical field of view.
-  bool locate(const Vec3& q, double r, int& row, int& row2, int& col, int& col2) const {
-    if (beams_) {
-      if (!beams_->locate(q, row, row2)) return false;
-    } else {
-      const double b = (q.z() / r - lo_) * scale_;
-      if (!(b >= 0.0 && b < kBins)) return false;
-      row = table_[static_cast<std::size_t>(b)];
-      row2 =
-          std::clamp(q.z() / r > beam_sin_[static_cast<std::size_t>(row)] ? row + 1 : row - 1, 0, rows_ - 1);
-    }
-    double t = (M_PI - fast_atan2(q.y(), q.x())) / (2.0 * M_PI);
-    t = (t - std::floor(t)) * cols_;
+  explicit Projector(const SensorConfig& s) : cols_(s.Horizon_SCAN), beams_(s) {}
+  /// False when q is outside the vertical field of view (or at the origin).
+  bool locate(const Vec3& q, int& row, int& row2, int& col, int& col2) const {
+    if (!beams_.locate(q, row, row2)) return false;
+    const double t = azimuth_time(q.x(), q.y()) * cols_;
     col = std::min(static_cast<int>(t), cols_ - 1);
     col2 = ((t - col >= 0.5 ? col + 1 : col - 1) + cols_) % cols_;
     return true;
   }
 
  private:
-  static constexpr int kBins = 8192;
-  int rows_, cols_;
-  double lo_ = 0.0, scale_ = 1.0;
-  std::vector<int> table_;
-  std::vector<double> beam_sin_;
-  std::optional<BeamLookup> beams_;  ///< sensors with beam origin heights (SensorConfig::row_of_point)
+  int cols_;
+  BeamLookup beams_;
 };
 
 /// Speed (bracket distance) of the current point seen from the previous frame at q, and the
@@ -94,7 +59,7 @@ float point_speed(const Vec3& q, const std::vector<float>& previous, const Proje
   behind = false;
   const double r = q.norm();
   int row = 0, row2 = 0, col = 0, col2 = 0;
-  if (!(r > 0.0) || !proj.locate(q, r, row, row2, col, col2)) return -1.0f;
+  if (!(r > 0.0) || !proj.locate(q, row, row2, col, col2)) return -1.0f;
   pixel = row * cols + col;
   return bracket_distance(previous, cols, row, row2, col, col2, static_cast<float>(r), behind);
 }

@@ -5,9 +5,9 @@
 // ground, walls along the street) one pixel of offset changes the range by decimetres. So r^{k-1}
 // is the interval spanned by the 2x2 previous pixels bracketing the point's direction, and s is
 // the distance of r^k to that interval (0 inside it): a smooth static surface gives ~0, a point in
-// previously free space (or behind a previously seen surface) its full range change. The
-// projection uses a sin(elevation) row table and a polynomial atan2 (the same pixels as eqs. 4-5
-// up to pixel borders, a few times cheaper).
+// previously free space (or behind a previously seen surface) its full range change. Rows come
+// from the sensor's BeamLookup, as in the range image (range_image.hpp), columns from the
+// polynomial atan2 of azimuth_time.
 #pragma once
 
 #include <cstdint>

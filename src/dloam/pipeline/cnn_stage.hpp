@@ -34,6 +34,12 @@ class CnnStage {
   void refine_latest(const Pose& pose);
 
  private:
+  /// World pose of the current scan: the previous one's moved by T_coarse (identity for the first).
+  [[nodiscard]] Pose pose_of(const Pose& T_coarse) const {
+    return first_ ? Pose::Identity() : latest_ * T_coarse;
+  }
+  void push(std::vector<float> range, const Pose& pose);
+
   std::shared_ptr<MovingSegmenter> net_;
   ScanHistory history_;
   Pose latest_ = Pose::Identity();
