@@ -14,8 +14,7 @@
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/pipeline/pipeline.hpp"
-#include "dloam/sim/scenario.hpp"
-#include "dloam/sim/simulator.hpp"
+#include "sim_test_util.hpp"
 
 using namespace dloam;
 namespace fs = std::filesystem;
@@ -90,17 +89,11 @@ TEST(CnnPipeline, ShippedModelSegmentsMovingObjectsOfAnUnseenSimulatedDrive) {
   cfg.detection.detector = "cnn";
   const std::string model = cnn::resolve_model_path(cfg.detection, DLOAM_MODEL_DIR);
   ASSERT_TRUE(fs::exists(model)) << model;
-  sim::ScenarioParams params;
-  params.kind = sim::ScenarioKind::Urban;
-  params.frames = 80;
-  params.seed = 2;
-  sim::LidarOptions options;
-  options.sensor = cfg.sensor;
-  options.seed = 2;
-  sim::Simulator simulator(sim::make_world(params), options);
+  constexpr int kFrames = 80;
+  sim::Simulator simulator = test::make_simulator(sim::ScenarioKind::Urban, kFrames, 2, cfg.sensor);
   Pipeline pipeline(cfg, cnn::load_cnn_segmenter(model, 2, cfg.detection.m));
   eval::MosResult mos;
-  for (int k = 50; k < params.frames; ++k) {
+  for (int k = 50; k < kFrames; ++k) {
     const sim::SimFrame f = simulator.frame(k);
     const ScanResult r = pipeline.process(f.scan.cloud);
     if (k > 50 + cfg.detection.m) eval::add_scan(mos, f.scan.labels, r.labels);  // the CNN's own scans
@@ -121,24 +114,10 @@ TEST(CnnPipeline, FirstScansOfAHighwayDriveDoNotLockOntoTraffic) {
   cfg.detection.detector = "cnn";
   const std::string model = cnn::resolve_model_path(cfg.detection, DLOAM_MODEL_DIR);
   ASSERT_TRUE(fs::exists(model)) << model;
-  sim::ScenarioParams params;
-  params.kind = sim::ScenarioKind::Highway;
-  params.frames = 100;  // the world of `dloam simulate --scenario highway --seed 2 --traffic 3`
-  params.seed = 2;
-  params.traffic = 3.0;
-  sim::LidarOptions options;
-  options.sensor = cfg.sensor;
-  options.seed = 2;
-  sim::Simulator simulator(sim::make_world(params), options);
+  // The world of `dloam simulate --scenario highway --frames 100 --seed 2 --traffic 3`.
+  sim::Simulator simulator = test::make_simulator(sim::ScenarioKind::Highway, 100, 2, cfg.sensor, 3.0);
   Pipeline pipeline(cfg, cnn::load_cnn_segmenter(model, 2, cfg.detection.m));
-  std::vector<Pose> est, gt;
-  for (int k = 0; k < 20; ++k) {
-    const sim::SimFrame f = simulator.frame(k);
-    est.push_back(pipeline.process(f.scan.cloud).pose);
-    gt.push_back(f.pose);
-  }
-  const Pose gt_rel = gt.front().inverse() * gt.back();
-  const Pose err = est.back().inverse() * gt_rel;
+  const auto [err, gt_rel] = test::track(pipeline, simulator, 20);
   std::printf("CNN pipeline, 20 highway scans, %.1f m: end-point error %.3f m\n", gt_rel.translation().norm(),
               err.translation().norm());
   EXPECT_GT(gt_rel.translation().norm(), 40.0);
@@ -152,16 +131,12 @@ TEST(MosTrainer, TrainsAndCheckpointsOnATinySimulatedSequence) {
   fs::remove_all(dir);
   fs::create_directories(dir / "velodyne");
   fs::create_directories(dir / "labels");
-  sim::ScenarioParams params;
-  params.frames = 8;
-  params.seed = 4;
-  params.traffic = 3.0;
-  sim::LidarOptions options;
-  options.sensor = sensor_preset("HDL-32E");
-  options.seed = 4;
-  sim::Simulator simulator(sim::make_world(params), options);
+  constexpr int kFrames = 8;
+  sim::Simulator simulator =
+      test::make_simulator(sim::ScenarioKind::Urban, kFrames, 4, sensor_preset("HDL-32E"), 3.0);
+  const SensorConfig& sensor = simulator.options().sensor;
   std::vector<Pose> poses;
-  for (int k = 0; k < params.frames; ++k) {
+  for (int k = 0; k < kFrames; ++k) {
     const sim::SimFrame f = simulator.frame(k);
     const std::string name = io::scan_name(static_cast<std::size_t>(k));
     io::write_kitti_bin((dir / "velodyne" / (name + ".bin")).string(), f.scan.cloud);
@@ -169,7 +144,7 @@ TEST(MosTrainer, TrainsAndCheckpointsOnATinySimulatedSequence) {
     poses.push_back(f.pose);
   }
   io::write_kitti_poses((dir / "poses.txt").string(), poses);
-  const cnn::MosSequence seq = cnn::load_mos_sequence(dir.string(), options.sensor);
+  const cnn::MosSequence seq = cnn::load_mos_sequence(dir.string(), sensor);
   ASSERT_EQ(seq.frames.size(), 8u);
   for (int m : {0, 1, 3}) {
     cnn::TrainOptions o;
@@ -180,7 +155,7 @@ TEST(MosTrainer, TrainsAndCheckpointsOnATinySimulatedSequence) {
     o.val_fraction = 0.25;
     o.threads = 1;
     o.out = temp_path("tiny_m" + std::to_string(m) + ".pt");
-    const auto reports = cnn::train_mos_net({seq}, options.sensor, o);
+    const auto reports = cnn::train_mos_net({seq}, sensor, o);
     ASSERT_EQ(reports.size(), 2u);
     EXPECT_TRUE(std::isfinite(reports[1].train_loss));
     EXPECT_GE(reports[1].val_iou, 0.0);

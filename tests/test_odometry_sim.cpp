@@ -12,22 +12,14 @@
 #include "dloam/core/se3.hpp"
 #include "dloam/core/segmentation.hpp"
 #include "dloam/pipeline/pipeline.hpp"
-#include "dloam/sim/scenario.hpp"
-#include "dloam/sim/simulator.hpp"
+#include "sim_test_util.hpp"
 
 using namespace dloam;
 
 namespace {
 
 sim::Simulator make_simulator() {
-  sim::ScenarioParams params;
-  params.kind = sim::ScenarioKind::Urban;
-  params.frames = 30;
-  params.seed = 11;
-  sim::LidarOptions options;
-  options.sensor = sensor_preset("HDL-32E");
-  options.seed = 11;
-  return sim::Simulator(sim::make_world(params), options);
+  return test::make_simulator(sim::ScenarioKind::Urban, 30, 11, sensor_preset("HDL-32E"));
 }
 
 }  // namespace
@@ -69,15 +61,7 @@ TEST(OdometrySim, PipelineTracksAShortDynamicDrive) {
   PipelineConfig cfg;
   cfg.sensor = simulator.options().sensor;
   Pipeline pipeline(cfg);
-  std::vector<Pose> est, gt;
-  for (int k = 0; k < 20; ++k) {
-    const sim::SimFrame f = simulator.frame(k);
-    est.push_back(pipeline.process(f.scan.cloud).pose);
-    gt.push_back(f.pose);
-  }
-  // Compare motion since the first scan (the pipeline starts at identity).
-  const Pose gt_rel = gt.front().inverse() * gt.back();
-  const Pose err = est.back().inverse() * gt_rel;
+  const auto [err, gt_rel] = test::track(pipeline, simulator, 20);
   std::printf("20 scans, %.2f m: end-point error %.4f m, %.4f deg\n", gt_rel.translation().norm(),
               err.translation().norm(), rotation_angle(err) * 180 / M_PI);
   EXPECT_GT(gt_rel.translation().norm(), 10.0);
@@ -89,21 +73,16 @@ TEST(OdometrySim, NoSteadyTiltBiasFromTrueMotionOnA64BeamStreet) {
   // Scan-to-scan odometry started from the true motion, on scans de-skewed with it: the error left
   // is the registration's own. Plane patches fitted along one scan ring (range noise tilts their
   // normal towards the sensor) once gave a steady pitch bias of about 0.04 deg per scan.
-  sim::ScenarioParams params;
-  params.kind = sim::ScenarioKind::Urban;
-  params.frames = 12;
-  params.seed = 5;
-  sim::LidarOptions options;
-  options.sensor = sensor_preset("HDL-64E");
-  options.seed = 5;
-  sim::Simulator simulator(sim::make_world(params), options);
+  constexpr int kFrames = 12;
+  sim::Simulator simulator =
+      test::make_simulator(sim::ScenarioKind::Urban, kFrames, 5, sensor_preset("HDL-64E"));
   PipelineConfig cfg;
-  cfg.sensor = options.sensor;
+  cfg.sensor = simulator.options().sensor;
   ScanToScanOdometry odometry(cfg.odometry);
   double sum_pitch = 0.0, sum_roll = 0.0;
   int n = 0;
   Pose previous = Pose::Identity();
-  for (int k = 0; k < params.frames; ++k) {
+  for (int k = 0; k < kFrames; ++k) {
     const sim::SimFrame f = simulator.frame(k);
     const Pose sweep = simulator.sensor_pose(k, 0.0).inverse() * simulator.sensor_pose(k, 1.0);
     const auto points = deskew(f.scan.cloud.xyz, point_times(f.scan.cloud, true), sweep);
@@ -131,17 +110,11 @@ struct HighwayRun {
   std::size_t moving_static = 0, points = 0;  ///< ground-truth static points labelled moving
 };
 HighwayRun run_highway(double traffic, int frames, const PipelineConfig& base) {
-  sim::ScenarioParams params;
-  params.kind = sim::ScenarioKind::Highway;
-  params.frames = 100;  // the world of `dloam simulate --scenario highway --seed 2`, its first scans
-  params.seed = 2;
-  params.traffic = traffic;
-  sim::LidarOptions options;
-  options.sensor = sensor_preset("HDL-64E");
-  options.seed = 2;
-  sim::Simulator simulator(sim::make_world(params), options);
+  // The world of `dloam simulate --scenario highway --frames 100 --seed 2`, its first scans.
+  sim::Simulator simulator =
+      test::make_simulator(sim::ScenarioKind::Highway, 100, 2, sensor_preset("HDL-64E"), traffic);
   PipelineConfig cfg = base;
-  cfg.sensor = options.sensor;
+  cfg.sensor = simulator.options().sensor;
   cfg.detection.detector = "geometric";
   Pipeline pipeline(cfg);
   HighwayRun run;
@@ -174,8 +147,7 @@ TEST(OdometrySim, HeavyCoMovingTrafficOnAHighwayDoesNotPullTheOdometry) {
   // gave T_coarse jumps of 5 deg, and a 5 m correspondence radius let the odometry lock onto
   // traffic and repeated posts (73 % drift without the detector, 57 % with it).
   const HighwayRun run = run_highway(3.0, 30, PipelineConfig{});
-  const Pose gt_rel = run.gt.front().inverse() * run.gt.back();
-  const Pose err = run.est.back().inverse() * gt_rel;
+  const auto [err, gt_rel] = test::end_point_error(run.est, run.gt);
   std::printf("30 scans, %.2f m: end-point error %.3f m, %.3f deg\n", gt_rel.translation().norm(),
               err.translation().norm(), rotation_angle(err) * 180 / M_PI);
   EXPECT_GT(gt_rel.translation().norm(), 50.0);
