@@ -2,8 +2,10 @@
 // scenario worlds (loop closes on itself, highway speeds, reproducible generation).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
+#include "dloam/sim/city.hpp"
 #include "dloam/sim/scenario.hpp"
 
 using namespace dloam;
@@ -159,4 +161,47 @@ TEST(SimScenario, TrafficAndDensityScaleTheScene) {
     p.density = 3.0;
     EXPECT_GT(make_world(p).static_mesh.size(), normal.static_mesh.size()) << to_string(kind);
   }
+}
+
+TEST(SimScenario, HeavyCityTrafficQueuesAheadOfAndBehindTheEgoWithoutTouchingAnything) {
+  ScenarioParams p;
+  p.frames = 100;
+  p.traffic = 3.0;
+  const World w = make_world(p);
+  const double duration = p.frames * w.frame_period;
+  int ahead = 0, behind = 0;
+  for (const Actor& a : w.actors) {
+    if (a.kind != ActorKind::Car && a.kind != ActorKind::Truck) continue;
+    const Vec2 rel = a.path.at(a.s0).p - w.ego.position(0.0);
+    const bool in_lane = std::abs(rel.y()) < 0.05 && a.path.at(a.s0).yaw == w.ego.path.at(w.ego.s0).yaw;
+    if (!in_lane || std::abs(a.speed(0.0) - w.ego.profile.speed(0.0)) > 0.4) continue;
+    (rel.x() > 0.0 ? ahead : behind) += 1;
+    // The queue never closes on the ego, and nothing else drives or walks through it.
+    for (double t = 0.0; t <= duration; t += 0.1) {
+      const Vec2 q = a.path.at(a.s0 + a.profile.distance(t)).p;
+      EXPECT_GT((q - w.ego.position(t)).norm(), 3.5) << t;
+      for (const Actor& o : w.actors) {
+        if (&o == &a || !o.present(t)) continue;
+        const Vec2 d = o.path.at(o.s0 + o.profile.distance(t)).p - q;
+        const double reach = 0.5 * std::max(o.dims.length, o.dims.width);
+        EXPECT_FALSE(std::abs(d.x()) < 0.5 * a.dims.length + reach &&
+                     std::abs(d.y()) < 0.5 * a.dims.width + reach)
+            << "actor " << o.instance << " overlaps queue vehicle " << a.instance << " at t = " << t;
+      }
+    }
+  }
+  EXPECT_GE(ahead, 1);
+  EXPECT_GE(behind, 1);
+}
+
+TEST(SimScenario, NoQueueAtTheDefaultTraffic) {
+  ScenarioParams p;
+  p.frames = 100;
+  World w = make_world(p);
+  const std::size_t n = w.actors.size();
+  Rng rng(7);
+  add_ego_flow(w, rng, 1.0, sample_route(w.ego, 10.0, {}, 120.0));
+  EXPECT_EQ(w.actors.size(), n);
+  add_ego_flow(w, rng, 3.0, sample_route(w.ego, 10.0, {}, 120.0));
+  EXPECT_GT(w.actors.size(), n);
 }

@@ -74,6 +74,8 @@ void visit(PreRegistrationConfig& c, V& v) {
     "deg: T_coarse rotating this much more than the constant-velocity prediction is rejected", at_least(0));
   v("max_translation_change", c.max_translation_change,
     "m: T_coarse moving this much farther than the constant-velocity prediction is rejected", at_least(0));
+  v("refine", c.refine,
+    "refine T_coarse by aligning the two range images (dloam's addition; sparse sensors need it)", Range{});
 }
 
 template <class V>

@@ -40,6 +40,10 @@ struct PreRegistrationConfig {
   /// jump comes from a few objects registered wrongly (co-moving traffic, repeated posts).
   double max_rotation_change_deg = 1.0;
   double max_translation_change = 0.3;
+  /// dloam's addition: T_coarse refined by a projective point-to-plane alignment of the current
+  /// scan onto the previous range image (core/range_alignment.hpp). Eq. 13 needs the motion to a
+  /// few centimetres; the objects of a 16-beam scan give it to a decimetre and a degree.
+  bool refine = true;
 };
 
 /// III.D.2 Motion-distortion removal (eq. 12).

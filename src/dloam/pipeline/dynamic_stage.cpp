@@ -7,6 +7,7 @@
 
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/range_image.hpp"
+#include "dloam/core/se3.hpp"
 #include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
 
@@ -26,13 +27,13 @@ void DynamicStage::remember_range(const RangeImage& image, const std::vector<Vec
         pixel[static_cast<std::size_t>(i)] = image.pixel(row, azimuth_column(p.x(), p.y(), image.cols));
     }
   });
-  previous_range_.assign(image.range.size(), 0.0f);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (pixel[i] < 0) continue;
-    float& slot = previous_range_[static_cast<std::size_t>(pixel[i])];
-    const auto r = static_cast<float>(points[i].norm());
-    if (slot == 0.0f || r < slot) slot = r;
-  }
+  previous_vertices_ = make_vertex_map(points, pixel, image.rows, image.cols);
+  previous_range_.resize(previous_vertices_.point.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, previous_range_.size(), 8192),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t px = range.begin(); px < range.end(); ++px)
+                        previous_range_[px] = previous_vertices_.point[px].norm();
+                    });
 }
 
 CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::vector<double>& times,
@@ -85,11 +86,24 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   if (pre.enabled) objects = extract_objects(deskewed, seg, pre);
 
   // Pre-registration -> T_coarse, then the current scan de-skewed with it.
+  const bool first_pair_now = have_previous_ && !first_pair_done_;
   if (have_previous_ && pre.enabled && previous_objects_) {
-    const CoarseResult c = first_pair_done_ ? coarse_motion(objects, *previous_objects_, predicted, pre)
-                                            : first_pair(raw, times, deskewed, seg, predicted, objects);
+    const CoarseResult c = first_pair_now ? first_pair(raw, times, deskewed, seg, predicted, objects)
+                                          : coarse_motion(objects, *previous_objects_, predicted, pre);
     out.coarse_valid = c.valid;
     out.T_coarse = c.T;
+  }
+  if (have_previous_ && pre.enabled && pre.refine) {
+    // The refined motion must pass the motion gate around the prediction (around T_coarse for the
+    // first pair, which has no prediction): beyond it, it found another surface, not a better motion.
+    const AlignmentResult a = align_range_images(deskewed, seg.image.point_of_pixel, previous_vertices_,
+                                                 config_.sensor, out.T_coarse);
+    const Pose change = (first_pair_now ? out.T_coarse : predicted).inverse() * a.T;
+    if (a.valid && rotation_angle(change) <= pre.max_rotation_change_deg * M_PI / 180.0 &&
+        translation_norm(change) <= pre.max_translation_change) {
+      out.T_coarse = a.T;
+      out.coarse_valid = true;
+    }
   }
   if (have_previous_) first_pair_done_ = true;
   out.points = (out.coarse_valid && deskew_on) ? deskew(raw, times, out.T_coarse) : std::move(deskewed);

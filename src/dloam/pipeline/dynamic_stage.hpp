@@ -1,5 +1,6 @@
 // The pipeline's dynamic-object stage (paper III.D, geometric detector): pre-registration of the
-// current scan's pole / plane objects against the previous scan's (T_coarse), de-skew of the
+// current scan's pole / plane objects against the previous scan's (T_coarse; dloam refines it by
+// aligning the two range images, core/range_alignment.hpp), de-skew of the
 // current scan with T_coarse and of the previous one with the refined motion (eq. 12), the speed
 // matrix (eq. 13), the two-frame cluster detector with ground re-verification, the pseudo-static
 // object tracker, and what the later modules need: the feature mask, eq. 15's column distances
@@ -15,6 +16,7 @@
 #include "dloam/core/features.hpp"
 #include "dloam/core/object_tracker.hpp"
 #include "dloam/core/preregistration.hpp"
+#include "dloam/core/range_alignment.hpp"
 #include "dloam/pipeline/cnn_stage.hpp"
 #include "dloam/pipeline/config.hpp"
 
@@ -67,6 +69,7 @@ class DynamicStage {
   std::vector<double> first_times_;
   std::unique_ptr<SegmentationResult> first_seg_;
   std::vector<float> previous_range_;  ///< previous scan's range image (its final de-skew, own frame)
+  VertexMap previous_vertices_;        ///< the same pixels' points (the ranges are their norms)
   std::unique_ptr<FeatureMap> previous_objects_;
   ObjectTracker tracker_;
   std::unique_ptr<CnnStage> cnn_;

@@ -117,12 +117,23 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // T_coarse (static poles / planes, III.D.1) is the initial guess when valid; the features
     // were de-skewed with it.
     const Pose initial = dynamic_ && dyn.coarse_valid ? dyn.T_coarse : velocity_;
-    auto odo = odometry_.estimate(sharp, initial, reject);
+    // T_coarse passed the motion gate (and is aligned on the range images when refined): an
+    // odometry that moves farther than the gate from it has slid along repeated structure (a
+    // highway's guard-rail posts, one spacing along) and is not believed.
+    const auto believe = [&](auto odometry) {
+      const Pose change = initial.inverse() * odometry.motion;
+      if (dynamic_ && dyn.coarse_valid &&
+          (rotation_angle(change) > config_.preregistration.max_rotation_change_deg * M_PI / 180.0 ||
+           translation_norm(change) > config_.preregistration.max_translation_change))
+        odometry.motion = initial;
+      return odometry;
+    };
+    auto odo = believe(odometry_.estimate(sharp, initial, reject));
     if (first_ && !first_->raw.empty()) {
       // Scan 1: the first motion is known; de-skew the first scan with it (constant velocity) and
       // estimate again against the corrected target.
       deskew_first_scan(odo.motion);
-      odo = odometry_.estimate(sharp, odo.motion, reject);
+      odo = believe(odometry_.estimate(sharp, odo.motion, reject));
     }
     if (!times.empty() && count_ > 0) {
       // The constant-velocity de-skew is wrong where the turn rate changes (start and end of a
@@ -133,7 +144,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       if (rotation_angle(change) > kRedeskewRotation || translation_norm(change) > kRedeskewTranslation) {
         sharp.edges = deskew(raw, times, features.f_e_index, odo.motion);
         sharp.planes = deskew(raw, times, features.f_p_index, odo.motion);
-        odo = odometry_.estimate(sharp, odo.motion, reject);
+        odo = believe(odometry_.estimate(sharp, odo.motion, reject));
       }
       features.F_e = deskew(raw, times, features.F_e_index, odo.motion);
       features.F_p = deskew(raw, times, features.F_p_index, odo.motion);

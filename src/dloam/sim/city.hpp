@@ -56,6 +56,11 @@ void build_city(World& world, const CityLayout& city, Rng& rng, double density);
 /// Moving and standing road users near the route; `traffic` scales their number.
 void add_city_traffic(World& world, const CityLayout& city, Rng& rng, double traffic, const EgoRoute& route);
 
+/// Heavy traffic (`traffic` > 1): queues of 1-3 vehicles ahead of and behind the ego in its own
+/// lane, at nearly its speed (the co-moving objects that pull a scan matcher along). Deterministic
+/// in `rng`; nothing is added at `traffic` <= 1, so default worlds do not change.
+void add_ego_flow(World& world, Rng& rng, double traffic, const EgoRoute& route);
+
 /// Sets the actor's existence window [t_begin, t_end] so that it never comes closer than
 /// `clearance` to the ego (it would run into it) and appears/vanishes only beyond
 /// route.unseen_distance; among the possible windows, the one with the most time within

@@ -1,7 +1,8 @@
 // Road users of the city. Pedestrians walk around blocks on the sidewalks, cross streets, stand,
 // or stop and go; cars drive in platoons that share one (possibly stop-and-go) speed profile, so
 // cars of a lane never overlap; cyclists ride between the lanes and the parked cars. Actors that
-// would touch the ego, or never come near it, are dropped.
+// would touch the ego, or never come near it, are dropped. In heavy traffic the ego drives in a
+// queue: cars ahead of it and behind it in its own lane move at nearly its speed.
 #include <algorithm>
 #include <cmath>
 
@@ -219,7 +220,48 @@ void add_vehicles(World& w, const CityLayout& city, Rng& rng, double traffic, co
                route, 1.8);
   }
 }
+// Whether `other` ever overlaps the vehicle `a` (footprint box against other's half length) while
+// both exist, sampled at the route's times.
+bool overlaps(const Actor& a, const Actor& other, const EgoRoute& route) {
+  const double reach = 0.5 * std::max(other.dims.length, other.dims.width);
+  for (double t : route.times) {
+    if (!a.present(t) || !other.present(t)) continue;
+    const PathPoint pa = a.path.at(a.s0 + a.profile.distance(t));
+    const Vec2 d = other.path.at(other.s0 + other.profile.distance(t)).p - pa.p;
+    const double along = std::cos(pa.yaw) * d.x() + std::sin(pa.yaw) * d.y();
+    const double across = -std::sin(pa.yaw) * d.x() + std::cos(pa.yaw) * d.y();
+    if (std::abs(along) < 0.5 * a.dims.length + reach && std::abs(across) < 0.5 * a.dims.width + reach)
+      return true;
+  }
+  return false;
+}
 }  // namespace
+
+void add_ego_flow(World& w, Rng& rng, double traffic, const EgoRoute& route) {
+  // Chance of a queue ahead and of one behind: none up to the default traffic, certain from 3x.
+  const double p = std::clamp(0.5 * (traffic - 1.0), 0.0, 1.0);
+  const double v = w.ego.profile.speed(0.0);
+  for (int side : {1, -1}) {
+    if (!chance(rng, p)) continue;
+    // Ahead: slowly pulling away; behind: slowly falling back, so the queue never closes on the ego.
+    const SpeedProfile profile = SpeedProfile::constant(std::max(0.0, v + side * uniform(rng, 0.0, 0.4)));
+    double s = w.ego.s0 + side * uniform(rng, 7.0, 15.0);
+    const int n = uniform_int(rng, 1, 3);
+    for (int k = 0; k < n; ++k) {
+      const ActorKind kind = chance(rng, 0.15) ? ActorKind::Truck : ActorKind::Car;
+      Actor a = make_actor(rng, kind, w.ego.path, profile, s, false);
+      a.s0 += side * 0.5 * a.dims.length;  // the mesh origin is the vehicle's centre
+      s += side * (a.dims.length + uniform(rng, 3.0, 8.0));
+      if (!fit_time_window(a, route, 3.5, kInterest)) continue;
+      // The queue owns its stretch of lane: road users that would drive or walk through it go.
+      w.actors.erase(std::remove_if(w.actors.begin(), w.actors.end(),
+                                    [&](const Actor& o) { return overlaps(a, o, route); }),
+                     w.actors.end());
+      a.instance = w.new_instance();
+      w.actors.push_back(std::move(a));
+    }
+  }
+}
 
 void add_city_traffic(World& w, const CityLayout& city, Rng& rng, double traffic, const EgoRoute& route) {
   const double duration = route.times.empty() ? 0.0 : route.times.back();

@@ -129,8 +129,10 @@ World make_city_world(const ScenarioParams& params, bool loop) {
   }
   w.ego.profile = SpeedProfile::constant(v);
   build_city(w, city, static_rng, params.density);
-  add_city_traffic(w, city, traffic_rng, params.traffic,
-                   sample_route(w.ego, duration, ego_lanes, params.max_range));
+  const EgoRoute route = sample_route(w.ego, duration, ego_lanes, params.max_range);
+  add_city_traffic(w, city, traffic_rng, params.traffic, route);
+  Rng flow_rng(stream_seed(params.seed, 3, 0));  // own stream: the other road users stay the same
+  add_ego_flow(w, flow_rng, params.traffic, route);
   return w;
 }
 
