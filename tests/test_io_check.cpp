@@ -159,3 +159,20 @@ TEST(ConfigCli, DumpPrintsLoadableYamlAndRejectsTypos) {
   EXPECT_THAT(typo.output, HasSubstr("typo.yaml"));
   EXPECT_THAT(typo.output, HasSubstr("maping"));
 }
+
+TEST(RunCli, AWrongSensorModelStopsTheRunNamingTheScan) {
+  const std::string data = DLOAM_KITTI_0005;
+  if (!std::filesystem::exists(data)) GTEST_SKIP() << data << " is absent";
+  if (!std::filesystem::exists(DLOAM_BINARY)) GTEST_SKIP() << "no dloam binary";
+  TempDir dir;
+  // HDL-64E scans (-24.9 .. +2 deg) read as a VLP-16 (-15 .. +15 deg).
+  const CliRun wrong = run_dloam("run " + data + " --out " + dir.file("vlp") + " --preset VLP-16 --count 2");
+  EXPECT_NE(wrong.status, 0) << wrong.output;
+  EXPECT_THAT(wrong.output, HasSubstr("000000.bin"));
+  EXPECT_THAT(wrong.output, HasSubstr("vertical field of view"));
+  // The KITTI beam table (beam origins 0.12 / 0.20 m above the sensor origin) fits the same scans.
+  const CliRun right =
+      run_dloam("run " + data + " --out " + dir.file("kitti") + " --config " + std::string(DLOAM_SOURCE_DIR) +
+                "/config/kitti-raw.yaml --count 2 --detector none");
+  EXPECT_EQ(right.status, 0) << right.output;
+}

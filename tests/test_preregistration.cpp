@@ -173,6 +173,12 @@ TEST(Preregistration, CoarseMotionOutsideTheMotionGateIsRejected) {
   const CoarseResult rejected = coarse_motion(seen_after(far_truth), target, predicted, c);
   EXPECT_FALSE(rejected.valid);
   EXPECT_TRUE(rejected.T.isApprox(predicted));
+  // Ungated (the first scan pair: its start is a search result, no prior) it is kept.
+  const CoarseResult ungated = coarse_motion(seen_after(far_truth), target, predicted, c, false);
+  EXPECT_TRUE(ungated.valid);
+  EXPECT_LT(translation_norm(far_truth.inverse() * ungated.T), 0.02);
+  EXPECT_TRUE(within_motion_gate(predicted.inverse() * near_truth, c));
+  EXPECT_FALSE(within_motion_gate(predicted.inverse() * far_truth, c));
   c.max_translation_change = 1.0;  // a wider gate lets the same registration through
   const CoarseResult wide = coarse_motion(seen_after(far_truth), target, predicted, c);
   EXPECT_TRUE(wide.valid);

@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "commands.hpp"
+#include "dloam/core/preprocess.hpp"
 #include "dloam/core/range_image.hpp"
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/atomic_file.hpp"
@@ -51,11 +52,14 @@ PipelineConfig make_config(const RunArgs& a) {
 /// sensor model (beam count / angles): stop with a clear message instead of a useless run.
 void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, const std::string& file) {
   std::size_t inside = 0, in_range = 0;
-  for (const auto& p : cloud.xyz) {
+  std::vector<Vec3> points = cloud.xyz;
+  correct_vertical_angle(points, sensor.vertical_angle_correction_deg);
+  const BeamLookup beams(sensor);  // the rows of the range image, beam origin heights included
+  for (const auto& p : points) {
     const double r = p.norm();
     if (r < sensor.min_range || r > sensor.max_range) continue;
     ++in_range;
-    inside += sensor.row_of_elevation(point_elevation_deg(p) + sensor.vertical_angle_correction_deg) >= 0;
+    inside += beams.row(p) >= 0;
   }
   if (in_range > 0 && inside < 0.9 * static_cast<double>(in_range)) {
     throw InputError(fmt::format(

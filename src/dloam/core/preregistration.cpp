@@ -153,8 +153,13 @@ Pose search_forward_translation(const Pose& initial, double range, double step,
   return best;
 }
 
+bool within_motion_gate(const Pose& change, const PreRegistrationConfig& config) {
+  return rotation_angle(change) <= config.max_rotation_change_deg * M_PI / 180.0 &&
+         translation_norm(change) <= config.max_translation_change;
+}
+
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
-                           const PreRegistrationConfig& config) {
+                           const PreRegistrationConfig& config, bool gated) {
   RegistrationParams p;
   p.max_iterations = 2;  // per round; the rounds continue from the previous estimate
   p.max_correspondence = 1.0;
@@ -164,10 +169,7 @@ CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, c
   CoarseResult r =
       trimmed_registration(src, target, predicted, std::max(1, config.N_coarse), config.trim_ratio, p);
   // The motion gate: a jump away from the prediction that no vehicle makes in one scan.
-  const Pose change = predicted.inverse() * r.T;
-  if (rotation_angle(change) > config.max_rotation_change_deg * M_PI / 180.0 ||
-      translation_norm(change) > config.max_translation_change)
-    r.valid = false;
+  if (gated && !within_motion_gate(predicted.inverse() * r.T, config)) r.valid = false;
   if (!r.valid) r.T = predicted;
   return r;
 }

@@ -59,11 +59,15 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
 Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score);
 
+/// The motion gate: whether a motion `change` (per scan) away from a prior stays within
+/// config.max_rotation_change_deg / max_translation_change.
+bool within_motion_gate(const Pose& change, const PreRegistrationConfig& config);
+
 /// T_coarse between the object sets of the current scan and of the previous one (`target`, built
-/// from the previous ObjectSet), starting from the constant-velocity prediction. Invalid (and
-/// equal to the prediction) with too few matches or when it leaves the motion gate around the
-/// prediction (config.max_rotation_change_deg / max_translation_change).
+/// from the previous ObjectSet), starting from `predicted`. Invalid (and equal to `predicted`)
+/// with too few matches or, when `gated`, when it leaves the motion gate around `predicted` (a
+/// constant-velocity prediction; the first scan pair's start is a search result, no prior).
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
-                           const PreRegistrationConfig& config);
+                           const PreRegistrationConfig& config, bool gated = true);
 
 }  // namespace dloam

@@ -3,11 +3,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <limits>
-
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/range_image.hpp"
-#include "dloam/core/se3.hpp"
 #include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
 
@@ -53,9 +50,7 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
   Pose start = search_forward_translation(predicted, pre.search_range, kStep, score_with(kStep));
   start = search_forward_translation(start, kStep, kFineStep, score_with(kFineStep));
   // The search result is no motion prior: the object ICP may move far from it (no motion gate).
-  PreRegistrationConfig ungated = pre;
-  ungated.max_rotation_change_deg = ungated.max_translation_change = std::numeric_limits<double>::infinity();
-  CoarseResult c = coarse_motion(objects, *previous_objects_, start, ungated);
+  CoarseResult c = coarse_motion(objects, *previous_objects_, start, pre, false);
   c.valid = true;  // the search result when the objects do not constrain the motion
   if (!times.empty() && !first_times_.empty()) {
     // Both scans de-skewed with the found motion, then the objects registered again.
@@ -66,7 +61,7 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
     previous_objects_->edges.build(std::move(prev.poles));
     previous_objects_->planes.build(std::move(prev.planes));
     objects = extract_objects(deskew(raw, times, c.T), seg, pre);
-    const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, ungated);
+    const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, pre, false);
     if (refined.valid) c = refined;
   }
   first_raw_ = {};
@@ -98,9 +93,7 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
     // first pair, which has no prediction): beyond it, it found another surface, not a better motion.
     const AlignmentResult a = align_range_images(deskewed, seg.image.point_of_pixel, previous_vertices_,
                                                  config_.sensor, out.T_coarse);
-    const Pose change = (first_pair_now ? out.T_coarse : predicted).inverse() * a.T;
-    if (a.valid && rotation_angle(change) <= pre.max_rotation_change_deg * M_PI / 180.0 &&
-        translation_norm(change) <= pre.max_translation_change) {
+    if (a.valid && within_motion_gate((first_pair_now ? out.T_coarse : predicted).inverse() * a.T, pre)) {
       out.T_coarse = a.T;
       out.coarse_valid = true;
     }

@@ -7,6 +7,7 @@
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/features.hpp"
 #include "dloam/core/preprocess.hpp"
+#include "dloam/core/preregistration.hpp"
 #include "dloam/core/se3.hpp"
 #include "dloam/core/segmentation.hpp"
 #include "dloam/core/weight_compensation.hpp"
@@ -121,10 +122,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // odometry that moves farther than the gate from it has slid along repeated structure (a
     // highway's guard-rail posts, one spacing along) and is not believed.
     const auto believe = [&](auto odometry) {
-      const Pose change = initial.inverse() * odometry.motion;
       if (dynamic_ && dyn.coarse_valid &&
-          (rotation_angle(change) > config_.preregistration.max_rotation_change_deg * M_PI / 180.0 ||
-           translation_norm(change) > config_.preregistration.max_translation_change))
+          !within_motion_gate(initial.inverse() * odometry.motion, config_.preregistration))
         odometry.motion = initial;
       return odometry;
     };
