@@ -4,6 +4,7 @@
 // writes sweep.json and sweep.png (IoU over m, one line per sequence, the geometric detector dashed).
 #include <fmt/core.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -62,15 +63,21 @@ std::string plot_script(const json& rows, const std::vector<std::string>& sequen
       if (r["m"].get<int>() >= 0) s << r["m"].get<int>() << ' ' << 100 * r["iou"][q].get<double>() << '\n';
     s << "EOD\n";
   }
+  // The legend names a sequence by its folder (drive) name, not its whole path.
+  const auto name = [](const std::string& path) {
+    std::filesystem::path p = std::filesystem::path(path).lexically_normal();
+    if (p.filename().empty()) p = p.parent_path();
+    return p.filename().empty() ? path : p.filename().string();
+  };
   s << "plot ";
   for (std::size_t q = 0; q < sequences.size(); ++q) {
     double geometric = -1;
     for (const json& r : rows)
       if (r["m"].get<int>() < 0) geometric = 100 * r["iou"][q].get<double>();
     s << (q ? ", " : "") << "$cnn" << q << " using 1:2 with linespoints lw 2 lc " << q + 1 << " title 'CNN, "
-      << sequences[q] << "'";
+      << name(sequences[q]) << "'";
     if (geometric >= 0)
-      s << ", " << geometric << " with lines dt 2 lc " << q + 1 << " title 'geometric, " << sequences[q]
+      s << ", " << geometric << " with lines dt 2 lc " << q + 1 << " title 'geometric, " << name(sequences[q])
         << "'";
   }
   s << '\n';
