@@ -130,6 +130,15 @@ HighwayRun run_highway(double traffic, int frames, const PipelineConfig& base) {
   }
   return run;
 }
+
+/// The run's end-point error (printed with the drive length).
+test::EndPointError reported_end_point_error(const HighwayRun& run) {
+  const test::EndPointError e = test::end_point_error(run.est, run.gt);
+  std::printf("%zu scans, %.2f m: end-point error %.3f m, %.3f deg\n", run.est.size(),
+              e.truth.translation().norm(), e.error.translation().norm(),
+              rotation_angle(e.error) * 180 / M_PI);
+  return e;
+}
 }  // namespace
 
 TEST(OdometrySim, FastDriveFlagsNoStaticWallsAsMoving) {
@@ -147,9 +156,7 @@ TEST(OdometrySim, HeavyCoMovingTrafficOnAHighwayDoesNotPullTheOdometry) {
   // gave T_coarse jumps of 5 deg, and a 5 m correspondence radius let the odometry lock onto
   // traffic and repeated posts (73 % drift without the detector, 57 % with it).
   const HighwayRun run = run_highway(3.0, 30, PipelineConfig{});
-  const auto [err, gt_rel] = test::end_point_error(run.est, run.gt);
-  std::printf("30 scans, %.2f m: end-point error %.3f m, %.3f deg\n", gt_rel.translation().norm(),
-              err.translation().norm(), rotation_angle(err) * 180 / M_PI);
+  const auto [err, gt_rel] = reported_end_point_error(run);
   EXPECT_GT(gt_rel.translation().norm(), 50.0);
   EXPECT_LT(err.translation().norm(), 0.01 * gt_rel.translation().norm());
   EXPECT_LT(rotation_angle(err), 0.5 * M_PI / 180.0);
@@ -160,9 +167,7 @@ TEST(OdometrySim, GuardRailPostsDoNotPullTheOdometryALaneLengthOff) {
   // last scan the odometry, started from a T_coarse good to 3 cm, slid 4.2 m back along the
   // guard rails (repeated posts) until it was held to the motion gate around T_coarse.
   const HighwayRun run = run_highway(3.0, 100, PipelineConfig{});
-  const auto [err, gt_rel] = test::end_point_error(run.est, run.gt);
-  std::printf("100 scans, %.2f m: end-point error %.3f m, %.3f deg\n", gt_rel.translation().norm(),
-              err.translation().norm(), rotation_angle(err) * 180 / M_PI);
+  const auto [err, gt_rel] = reported_end_point_error(run);
   EXPECT_GT(gt_rel.translation().norm(), 240.0);
   EXPECT_LT(err.translation().norm(), 0.005 * gt_rel.translation().norm());
 }
