@@ -1,12 +1,10 @@
 #include "dloam/core/range_alignment.hpp"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>  // parallel_deterministic_reduce
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -46,42 +44,44 @@ struct NormalEquations {
 
 }  // namespace
 
-VertexMap make_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
-                          int cols) {
-  VertexMap map;
+void fill_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
+                     int cols, VertexMap& map) {
   map.rows = rows;
   map.cols = cols;
   const std::size_t n_pix = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
-  map.point.assign(n_pix, Vec3f::Zero());
-  // Nearest point per pixel in parallel: an atomic minimum of (range bits, point index). A
-  // positive float's bits order like the float; the index breaks ties, so the result does not
-  // depend on the schedule.
+  // The nearest point per pixel: the smallest (range bits, point index) key. A positive float's
+  // bits order like the float; the index breaks ties. The buffers keep their memory between
+  // scans (fresh pages every scan cost more than the work).
   constexpr std::uint64_t kEmpty = std::numeric_limits<std::uint64_t>::max();
-  std::vector<std::atomic<std::uint64_t>> best(n_pix);
-  for (auto& b : best) b.store(kEmpty, std::memory_order_relaxed);
-  const auto n = static_cast<int>(points.size());
-  tbb::parallel_for(tbb::blocked_range<int>(0, n, 8192), [&](const tbb::blocked_range<int>& range) {
-    for (int i = range.begin(); i < range.end(); ++i) {
-      const int px = pixel_of_point[static_cast<std::size_t>(i)];
-      if (px < 0) continue;
-      const auto r = static_cast<float>(points[static_cast<std::size_t>(i)].norm());
-      std::uint32_t bits = 0;
-      std::memcpy(&bits, &r, sizeof bits);
-      const std::uint64_t key = (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(i);
-      std::atomic<std::uint64_t>& slot = best[static_cast<std::size_t>(px)];
-      std::uint64_t cur = slot.load(std::memory_order_relaxed);
-      while (key < cur && !slot.compare_exchange_weak(cur, key, std::memory_order_relaxed)) {
-      }
+  static thread_local std::vector<std::uint64_t> best;
+  best.assign(n_pix, kEmpty);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const int px = pixel_of_point[i];
+    if (px < 0) continue;
+    const auto r = static_cast<float>(points[i].norm());
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &r, sizeof bits);
+    std::uint64_t& slot = best[static_cast<std::size_t>(px)];
+    slot = std::min(slot, (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(i));
+  }
+  map.point.resize(n_pix);
+  map.range.resize(n_pix);
+  for (std::size_t px = 0; px < n_pix; ++px) {
+    if (best[px] == kEmpty) {
+      map.point[px] = Vec3f::Zero();
+      map.range[px] = 0.0f;
+      continue;
     }
-  });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_pix, 8192),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t px = range.begin(); px < range.end(); ++px) {
-                        const std::uint64_t key = best[px].load(std::memory_order_relaxed);
-                        if (key != kEmpty)
-                          map.point[px] = points[static_cast<std::size_t>(key & 0xFFFFFFFFu)].cast<float>();
-                      }
-                    });
+    const auto bits = static_cast<std::uint32_t>(best[px] >> 32);
+    std::memcpy(&map.range[px], &bits, sizeof bits);
+    map.point[px] = points[static_cast<std::size_t>(best[px] & 0xFFFFFFFFu)].cast<float>();
+  }
+}
+
+VertexMap make_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
+                          int cols) {
+  VertexMap map;
+  fill_vertex_map(points, pixel_of_point, rows, cols, map);
   return map;
 }
 
@@ -111,15 +111,19 @@ AlignmentResult align_range_images(const std::vector<Vec3>& points, const std::v
   AlignmentResult result;
   result.T = initial;
   if (previous.empty()) return result;
+  // About max_points samples: every step-th pixel, the step from the share of pixels with a point
+  // (counted on a sparse subset of the image).
   std::vector<Vec3> samples;
   {
-    std::size_t valid = 0;
-    for (int i : point_of_pixel) valid += i >= 0;
-    const std::size_t step =
-        std::max<std::size_t>(1, valid / static_cast<std::size_t>(std::max(1, options.max_points)));
-    std::size_t k = 0;
-    for (int i : point_of_pixel)
-      if (i >= 0 && k++ % step == 0) samples.push_back(points[static_cast<std::size_t>(i)]);
+    std::size_t seen = 0, valid = 0;
+    for (std::size_t px = 0; px < point_of_pixel.size(); px += 17, ++seen) valid += point_of_pixel[px] >= 0;
+    const double filled = seen > 0 ? static_cast<double>(valid) / static_cast<double>(seen) : 0.0;
+    const auto step = std::max<std::size_t>(
+        1, static_cast<std::size_t>(filled * static_cast<double>(point_of_pixel.size()) /
+                                    static_cast<double>(std::max(1, options.max_points))));
+    samples.reserve(static_cast<std::size_t>(options.max_points) + 1);
+    for (std::size_t px = 0; px < point_of_pixel.size(); px += step)
+      if (point_of_pixel[px] >= 0) samples.push_back(points[static_cast<std::size_t>(point_of_pixel[px])]);
   }
   if (samples.empty()) return result;
 

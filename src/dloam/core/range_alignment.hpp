@@ -22,15 +22,19 @@
 
 namespace dloam {
 
-/// The previous scan's range image as points: per pixel the nearest point (own frame); empty
-/// pixels hold the zero point.
+/// The previous scan's range image as points: per pixel the nearest point (own frame) and its
+/// range; empty pixels hold the zero point and range 0.
 struct VertexMap {
   int rows = 0, cols = 0;
   std::vector<Eigen::Vector3f> point;
+  std::vector<float> range;
   [[nodiscard]] bool empty() const { return point.empty(); }
 };
 
 /// The image of `points` whose pixels are `pixel_of_point` (-1: none): per pixel the nearest point.
+/// Fills `map` in place, keeping its memory.
+void fill_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
+                     int cols, VertexMap& map);
 VertexMap make_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
                           int cols);
 

@@ -15,7 +15,8 @@ void DynamicStage::remember_range(const RangeImage& image, const std::vector<Vec
   // the de-skew moves points by more than a column (2.5 m per sweep at 90 km/h). The rows stay
   // (the de-skew barely changes a point's elevation). The nearest point of a pixel wins.
   const auto n = static_cast<int>(points.size());
-  std::vector<int> pixel(points.size(), -1);
+  std::vector<int>& pixel = pixel_scratch_;
+  pixel.assign(points.size(), -1);
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 8192), [&](const tbb::blocked_range<int>& range) {
     for (int i = range.begin(); i < range.end(); ++i) {
       const int row = image.row_of_point[static_cast<std::size_t>(i)];
@@ -24,13 +25,7 @@ void DynamicStage::remember_range(const RangeImage& image, const std::vector<Vec
         pixel[static_cast<std::size_t>(i)] = image.pixel(row, azimuth_column(p.x(), p.y(), image.cols));
     }
   });
-  previous_vertices_ = make_vertex_map(points, pixel, image.rows, image.cols);
-  previous_range_.resize(previous_vertices_.point.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, previous_range_.size(), 8192),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t px = range.begin(); px < range.end(); ++px)
-                        previous_range_[px] = previous_vertices_.point[px].norm();
-                    });
+  fill_vertex_map(points, pixel, image.rows, image.cols, previous_vertices_);
 }
 
 CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::vector<double>& times,
@@ -42,7 +37,8 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
   // error of half a coarse step already exceeds v_static on surfaces facing the motion.
   const auto score_with = [&](double v) {
     return [&, v](const Pose& T) {
-      return static_area(seg.image, deskewed, seg.pixel_label, T, previous_range_, config_.sensor, v, 3);
+      return static_area(seg.image, deskewed, seg.pixel_label, T, previous_vertices_.range, config_.sensor, v,
+                         3);
     };
   };
   constexpr double kStep = 0.2;       // m
@@ -104,7 +100,7 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   SpeedMatrix S;
   out.checked = have_previous_;
   if (have_previous_) {
-    S = compute_speed_matrix(seg.image, out.points, out.T_coarse, previous_range_, config_.sensor);
+    S = compute_speed_matrix(seg.image, out.points, out.T_coarse, previous_vertices_.range, config_.sensor);
   } else {
     S.speed.assign(seg.pixel_label.size(), -1.0f);
   }
@@ -112,7 +108,7 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   remember_range(seg.image, out.points);
   DetectionResult det;
   if (cnn_ && cnn_->ready()) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
-    det = cnn_->process(seg, out.points, intensity, previous_range_, out.T_coarse, config_.detection,
+    det = cnn_->process(seg, out.points, intensity, previous_vertices_.range, out.T_coarse, config_.detection,
                         have_previous_ ? &S.speed : nullptr);
   } else if (have_previous_) {
     // The geometric detector, also for the CNN's first m scans: their bags lack speed images, and
@@ -123,7 +119,7 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
     det.ground_rejected.assign(seg.pixel_label.size(), 0);
     update_pixel_mask(seg, det);
   }
-  if (cnn_ && !cnn_->ready()) cnn_->remember(previous_range_, out.T_coarse);
+  if (cnn_ && !cnn_->ready()) cnn_->remember(previous_vertices_.range, out.T_coarse);
   if (config_.detection.pseudo_static) {
     TrackResult track = tracker_.update(seg, S, det, config_.detection.alpha_tracked);
     out.type1 = track.type1;

@@ -68,8 +68,9 @@ class DynamicStage {
   std::vector<Vec3> first_raw_;
   std::vector<double> first_times_;
   std::unique_ptr<SegmentationResult> first_seg_;
-  std::vector<float> previous_range_;  ///< previous scan's range image (its final de-skew, own frame)
-  VertexMap previous_vertices_;        ///< the same pixels' points (the ranges are their norms)
+  /// The previous scan's range image (its final de-skew, own frame): ranges and points.
+  VertexMap previous_vertices_;
+  std::vector<int> pixel_scratch_;  ///< remember_range's pixel per point, kept between scans
   std::unique_ptr<FeatureMap> previous_objects_;
   ObjectTracker tracker_;
   std::unique_ptr<CnnStage> cnn_;
