@@ -136,3 +136,20 @@ TEST(RangeAlignment, SixteenBeamStreetBuildingsAreNotFlaggedMoving) {
   }
   EXPECT_LT(static_cast<double>(false_moving), 0.002 * static_cast<double>(static_points));
 }
+
+TEST(RangeAlignment, VertexMapKeepsTheNearestPointOfEachPixelAndItsRange) {
+  // Pixels 0 and 2 of a 1 x 3 image: two points in pixel 0 (the nearer wins, whatever the order),
+  // one in pixel 2, none in pixel 1, and one point outside the image (-1).
+  const std::vector<Vec3> points{Vec3(5, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 4), Vec3(1, 1, 1)};
+  const std::vector<int> pixel{0, 0, 2, -1};
+  VertexMap map;
+  for (int pass = 0; pass < 2; ++pass) {  // filling again reuses the memory and gives the same map
+    fill_vertex_map(points, pixel, 1, 3, map);
+    ASSERT_EQ(map.point.size(), 3u);
+    EXPECT_TRUE(map.point[0].isApprox(Eigen::Vector3f(0, 3, 0)));
+    EXPECT_FLOAT_EQ(map.range[0], 3.0f);
+    EXPECT_TRUE(map.point[1].isZero());
+    EXPECT_EQ(map.range[1], 0.0f);
+    EXPECT_FLOAT_EQ(map.range[2], 4.0f);
+  }
+}
