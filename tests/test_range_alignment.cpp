@@ -35,10 +35,11 @@ TrueScan true_scan(sim::Simulator& simulator, int k) {
   return s;
 }
 
-VertexMap vertex_map(const TrueScan& s) {
-  std::vector<int> pixel(s.points.size());
-  for (std::size_t i = 0; i < pixel.size(); ++i) pixel[i] = s.image.pixel_of_point(i);
-  return make_vertex_map(s.points, pixel, s.image.rows, s.image.cols);
+/// The vertex map of `points` on the pixels of their range image `image`.
+VertexMap vertex_map(const std::vector<Vec3>& points, const RangeImage& image) {
+  std::vector<int> pixel(points.size());
+  for (std::size_t i = 0; i < pixel.size(); ++i) pixel[i] = image.pixel_of_point(i);
+  return make_vertex_map(points, pixel, image.rows, image.cols);
 }
 
 }  // namespace
@@ -58,12 +59,10 @@ TEST(RangeAlignment, NormalsOfAWallAndOfTheGroundFaceTheSensor) {
     }
   }
   const RangeImage image = project(points, sensor);
-  std::vector<int> pixel(points.size());
-  for (std::size_t i = 0; i < pixel.size(); ++i) pixel[i] = image.pixel_of_point(i);
-  const VertexMap map = make_vertex_map(points, pixel, image.rows, image.cols);
+  const VertexMap map = vertex_map(points, image);
   int wall = 0, ground = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const int px = pixel[i];
+    const int px = image.pixel_of_point(i);
     if (px < 0 || image.point_of_pixel[static_cast<std::size_t>(px)] != static_cast<int>(i)) continue;
     const Eigen::Vector3f n = surface_normal(map, px / image.cols, px % image.cols);
     if (n.isZero()) continue;
@@ -86,7 +85,7 @@ TEST(RangeAlignment, RecoversTheTrueMotionFromAStartAsFarOffAsSixteenBeamObjects
       test::make_simulator(sim::ScenarioKind::Urban, 20, 4, sensor_preset("VLP-16"), 3.0);
   const TrueScan a = true_scan(simulator, 0), b = true_scan(simulator, 1);
   const Pose truth = a.pose.inverse() * b.pose;  // current (b) -> previous (a)
-  const VertexMap previous = vertex_map(a);
+  const VertexMap previous = vertex_map(a.points, a.image);
   // Errors measured for the PCA pre-registration on such drives: up to 1.9 deg and 0.16 m.
   Vec6 off;
   off << 1.0 * kDeg, -0.6 * kDeg, 0.8 * kDeg, 0.12, -0.1, 0.05;

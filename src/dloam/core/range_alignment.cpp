@@ -141,7 +141,7 @@ AlignmentResult align_range_images(const std::vector<Vec3>& points, const std::v
             const Vec3 q = T * samples[k];
             const int row = beams.row(q);
             if (row < 0) continue;
-            const int col = std::min(static_cast<int>(azimuth_time(q.x(), q.y()) * cols), cols - 1);
+            const int col = azimuth_column(q.x(), q.y(), cols);
             const auto px = static_cast<std::size_t>(row * cols + col);
             const Vec3f n = surface_normal(previous, row, col);
             if (n.isZero()) continue;

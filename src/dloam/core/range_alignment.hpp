@@ -3,8 +3,8 @@
 //
 // Why: the PCA objects of a sparse sensor (16-32 beams) leave the coarse motion 0.5-1 deg and
 // 0.1 m off. Eq. 13's v_static is 0.1 m per scan, so such an error makes the facades along a street
-// "move". Measured on a simulated VLP-16 urban drive: 6,000 false moving points per scan on
-// static buildings.
+// "move". Measured on a simulated VLP-16 urban drive: up to 6,000 static points of a scan, on the
+// buildings, labelled moving.
 //
 // How: each sampled current point is moved into the previous frame with the current estimate
 // (P^{k->k-1}) and paired with the previous scan's point in the pixel it lands in. This is eqs.
@@ -57,8 +57,8 @@ struct AlignmentResult {
   int pairs = 0;  ///< samples with a non-zero weight in the last iteration
 };
 
-/// Aligns `points` (the current scan's points of the pixels `pixels` of `point_of_pixel`, own
-/// frame) onto `previous`, starting from `initial`.
+/// Aligns the current scan onto `previous`, starting from `initial`: `points` in the current
+/// frame and its range image's `point_of_pixel` (the samples are taken per pixel).
 AlignmentResult align_range_images(const std::vector<Vec3>& points, const std::vector<int>& point_of_pixel,
                                    const VertexMap& previous, const SensorConfig& sensor, const Pose& initial,
                                    const AlignmentOptions& options = {});
