@@ -127,12 +127,18 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
         odometry.motion = initial;
       return odometry;
     };
+    const bool first_pair = first_ && !first_->raw.empty();
+    // Scan 1 was de-skewed with T_coarse: so is its target, the first scan. Registering a
+    // de-skewed scan to a skewed one is biased by the sweep's motion (a 4-6 cm short first step
+    // at 25 km/h, which the map built on the first scan then keeps).
+    if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(initial);
     auto odo = believe(odometry_.estimate(sharp, initial, reject));
-    if (first_ && !first_->raw.empty()) {
-      // Scan 1: the first motion is known; de-skew the first scan with it (constant velocity) and
+    if (first_pair) {
+      // The first motion is known; de-skew the first scan with it (constant velocity) and
       // estimate again against the corrected target.
       deskew_first_scan(odo.motion);
       odo = believe(odometry_.estimate(sharp, odo.motion, reject));
+      first_->raw.clear();  // done
     }
     if (!times.empty() && count_ > 0) {
       // The constant-velocity de-skew is wrong where the turn rate changes (start and end of a
@@ -226,7 +232,6 @@ void Pipeline::deskew_first_scan(const Pose& motion) {
   const std::vector<Vec3> points = deskew(f.raw, f.times, motion);
   for (std::size_t j = 0; j < f.map_points.size(); ++j) f.input.points[j] = points[f.map_points[j]];
   odometry_.set_previous(f.input.features.edges, f.input.features.planes);
-  f.raw.clear();  // done
 }
 
 void Pipeline::start_job(MappingInput input) {
