@@ -107,8 +107,9 @@ class Pipeline {
   void start_job(MappingInput input);
   /// Joins the job in flight and integrates its correction (transform integration).
   void integrate_job(ScanResult* out);
-  /// Scan 1: de-skews the first scan's features (the odometry target) and map points with the
-  /// motion of scan 1 (constant velocity); map_scan() then maps it.
+  /// Scan 1: de-skews the first scan's features (the odometry target) and map points with a
+  /// motion of scan 1 (constant velocity): T_coarse before the first estimate, then the estimate;
+  /// map_scan() then maps it.
   void deskew_first_scan(const Pose& motion);
 
   PipelineConfig config_;
