@@ -50,10 +50,9 @@ void fill_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pi
   map.cols = cols;
   const std::size_t n_pix = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
   // The nearest point per pixel: the smallest (range bits, point index) key. A positive float's
-  // bits order like the float; the index breaks ties. The buffers keep their memory between
-  // scans (fresh pages every scan cost more than the work).
+  // bits order like the float; the index breaks ties.
   constexpr std::uint64_t kEmpty = std::numeric_limits<std::uint64_t>::max();
-  static thread_local std::vector<std::uint64_t> best;
+  std::vector<std::uint64_t>& best = map.nearest_key;
   best.assign(n_pix, kEmpty);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int px = pixel_of_point[i];

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "dloam/core/sensor.hpp"
@@ -28,11 +29,14 @@ struct VertexMap {
   int rows = 0, cols = 0;
   std::vector<Eigen::Vector3f> point;
   std::vector<float> range;
+  /// fill_vertex_map's work buffer (nearest point per pixel), kept with the map so that refilling
+  /// it reuses the memory: fresh pages every scan cost 0.4 ms on a 64 x 2048 image.
+  std::vector<std::uint64_t> nearest_key;
   [[nodiscard]] bool empty() const { return point.empty(); }
 };
 
 /// The image of `points` whose pixels are `pixel_of_point` (-1: none): per pixel the nearest point.
-/// Fills `map` in place, keeping its memory.
+/// Fills `map` in place, keeping its memory (buffers included).
 void fill_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
                      int cols, VertexMap& map);
 VertexMap make_vertex_map(const std::vector<Vec3>& points, const std::vector<int>& pixel_of_point, int rows,
