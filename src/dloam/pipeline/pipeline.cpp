@@ -129,7 +129,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     };
     const bool first_pair = first_ && !first_->raw.empty();
     // Scan 1 was de-skewed with T_coarse: so is its target, the first scan. Registering a
-    // de-skewed scan to a skewed one is biased by the sweep's motion (a 2-6 cm short first step
+    // de-skewed scan to a skewed one is biased by the sweep's motion (a first step up to 6 cm short
     // at 25 km/h, which the map built on the first scan then keeps).
     if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(initial);
     auto odo = believe(odometry_.estimate(sharp, initial, reject));
