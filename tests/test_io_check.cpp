@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +11,9 @@
 #include <random>
 
 #include "cli_util.hpp"
+#include "dloam/core/range_image.hpp"
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/config_yaml.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/sensor_estimate.hpp"
 #include "dloam/io/sequence_check.hpp"
@@ -175,4 +178,38 @@ TEST(RunCli, AWrongSensorModelStopsTheRunNamingTheScan) {
       run_dloam("run " + data + " --out " + dir.file("kitti") + " --config " + std::string(DLOAM_SOURCE_DIR) +
                 "/config/kitti-raw.yaml --count 2 --detector none");
   EXPECT_EQ(right.status, 0) << right.output;
+}
+
+TEST(SimulateCli, SimulatesTheSensorOfAConfigFile) {
+  if (!std::filesystem::exists(DLOAM_BINARY)) GTEST_SKIP() << "no dloam binary";
+  TempDir dir;
+  // The sensor section of the file is simulated, over --preset (HDL-64E: down to -24.9 deg).
+  write_text(dir.file("mine.yaml"), "sensor: {preset: VLP-16, max_range: 30.0}\n");
+  const CliRun mine = run_dloam("simulate --scenario urban --frames 1 --seed 3 --config " +
+                                dir.file("mine.yaml") + " --out " + dir.file("mine"));
+  ASSERT_EQ(mine.status, 0) << mine.output;
+  const auto scan = dloam::io::read_kitti_bin(dir.file("mine/velodyne/000000.bin"));
+  ASSERT_GT(scan.size(), 1000u);
+  double lowest = 90.0, farthest = 0.0;
+  for (const auto& p : scan.xyz) {
+    lowest = std::min(lowest, dloam::point_elevation_deg(p));
+    farthest = std::max(farthest, p.norm());
+  }
+  EXPECT_GT(lowest, -15.5);
+  EXPECT_LT(farthest, 30.2);
+  // KITTI's fitted HDL-64E (its beam table, beam origins 0.12 / 0.20 m above the sensor origin):
+  // the run with the same file takes the simulated scans.
+  const std::string kitti = std::string(DLOAM_SOURCE_DIR) + "/config/kitti-raw.yaml";
+  const CliRun sim = run_dloam("simulate --scenario urban --frames 2 --seed 3 --config " + kitti + " --out " +
+                               dir.file("sim"));
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const CliRun run = run_dloam("run " + dir.file("sim") + " --out " + dir.file("out") + " --config " + kitti +
+                               " --detector none");
+  EXPECT_EQ(run.status, 0) << run.output;
+  write_text(dir.file("typo.yaml"), "sensor: {N_scna: 64}\n");
+  const CliRun typo =
+      run_dloam("simulate --frames 1 --config " + dir.file("typo.yaml") + " --out " + dir.file("t"));
+  EXPECT_NE(typo.status, 0);
+  EXPECT_THAT(typo.output, HasSubstr("typo.yaml"));
+  EXPECT_THAT(typo.output, HasSubstr("N_scna"));
 }

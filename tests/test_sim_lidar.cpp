@@ -171,3 +171,32 @@ TEST(SimLidar, SameSeedGivesIdenticalScansWhateverTheThreadCount) {
   EXPECT_EQ(a.rows, b.rows);
   EXPECT_NE(a.cloud.xyz, c.cloud.xyz);  // other noise seed
 }
+
+TEST(SimLidar, BeamsFireFromTheirOwnOriginHeights) {
+  // A calibrated sensor whose beams start at different heights (beam_vertical_offsets_m, as
+  // fitted for KITTI's HDL-64E): every return lies on the wall or the ground exactly, and the
+  // pipeline's beam lookup puts it back on the beam that fired it.
+  LidarOptions o = vlp16(0.0, 0.0);
+  o.sensor = sensor_preset("HDL-64E");
+  o.sensor.beam_vertical_offsets_m.resize(static_cast<std::size_t>(o.sensor.N_scan));
+  for (int r = 0; r < o.sensor.N_scan; ++r)  // lower block 0.12 m, upper block 0.20 m
+    o.sensor.beam_vertical_offsets_m[static_cast<std::size_t>(r)] = r < 32 ? 0.12 : 0.2;
+  Simulator sim(wall_world(10.0, 0.0), o);
+  const SimFrame f = sim.frame(0);
+  const BeamLookup beams(o.sensor);
+  int wall = 0, ground = 0, same_row = 0;
+  for (std::size_t i = 0; i < f.scan.cloud.size(); ++i) {
+    const Vec3& p = f.scan.cloud.xyz[i];
+    if (semantic::class_of(f.scan.labels[i]) == cls::kBuilding) {
+      EXPECT_NEAR(p.x(), 10.0, 2e-4);
+      ++wall;
+    } else {
+      EXPECT_NEAR(p.z(), -1.73, 2e-4);
+      ++ground;
+    }
+    same_row += beams.row(p) == f.scan.rows[i];
+  }
+  ASSERT_GT(wall, 1000);
+  ASSERT_GT(ground, 1000);
+  EXPECT_EQ(same_row, wall + ground);
+}

@@ -35,13 +35,15 @@ float intensity_of(float reflectivity, const Vec3& normal, const Vec3& dir) {
 Scan sweep(const World& world, const RayCaster& caster, const LidarOptions& opt, int frame) {
   const SensorConfig& s = opt.sensor;
   const int cols = s.Horizon_SCAN, rows = s.N_scan;
-  // Beam directions in the sensor frame: true elevation = nominal - vertical correction, so the
-  // returned points project back to their beam with point_elevation_deg().
+  // Beams in the sensor frame: origin at the beam's height (beam_vertical_offsets_m), true
+  // elevation = nominal - vertical correction, so the returned points project back to their beam.
   std::vector<double> cos_el(static_cast<std::size_t>(rows)), sin_el(static_cast<std::size_t>(rows));
+  std::vector<Vec3> o_local(static_cast<std::size_t>(rows));
   for (int r = 0; r < rows; ++r) {
     const double e = (s.beam_elevation_deg(r) - s.vertical_angle_correction_deg) * M_PI / 180.0;
     cos_el[static_cast<std::size_t>(r)] = std::cos(e);
     sin_el[static_cast<std::size_t>(r)] = std::sin(e);
+    o_local[static_cast<std::size_t>(r)] = Vec3(0.0, 0.0, s.beam_vertical_offset_m(r));
   }
   const float tfar = static_cast<float>(s.max_range + 6.0 * opt.range_noise);
   std::vector<Column> columns(static_cast<std::size_t>(cols));
@@ -57,16 +59,18 @@ Scan sweep(const World& world, const RayCaster& caster, const LidarOptions& opt,
     std::normal_distribution<double> noise(0.0, 1.0);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<Vec3> d_local(static_cast<std::size_t>(rows)), d_world(static_cast<std::size_t>(rows));
+    std::vector<Vec3> o_world(static_cast<std::size_t>(rows));
     std::vector<RayCaster::Hit> hits(static_cast<std::size_t>(rows));
     for (int r = 0; r < rows; ++r) {
       const auto ru = static_cast<std::size_t>(r);
       d_local[ru] = Vec3(cos_el[ru] * std::cos(azimuth), cos_el[ru] * std::sin(azimuth), sin_el[ru]);
       d_world[ru] = T.linear() * d_local[ru];
+      o_world[ru] = T * o_local[ru];
     }
     for (int r = 0; r < rows; r += RayCaster::kPacket) {
+      const auto ru = static_cast<std::size_t>(r);
       const int count = std::min(RayCaster::kPacket, rows - r);
-      caster.cast_packet(T.translation(), &d_world[static_cast<std::size_t>(r)], count,
-                         static_cast<float>(tau), 0.0f, tfar, &hits[static_cast<std::size_t>(r)]);
+      caster.cast_packet(&o_world[ru], &d_world[ru], count, static_cast<float>(tau), 0.0f, tfar, &hits[ru]);
     }
     for (int r = 0; r < rows; ++r) {
       const auto ru = static_cast<std::size_t>(r);
@@ -88,7 +92,7 @@ Scan sweep(const World& world, const RayCaster& caster, const LidarOptions& opt,
         reflectivity = a.mesh.materials[hit.primitive].reflectivity;
         normal = a.pose(world.ground, t_abs).linear() * normal;
       }
-      out.xyz.push_back(range * d_local[ru]);
+      out.xyz.push_back(o_local[ru] + range * d_local[ru]);
       out.intensity.push_back(intensity_of(reflectivity, normal, d_world[ru]));
       out.labels.push_back(label);
       out.rows.push_back(static_cast<std::uint16_t>(r));

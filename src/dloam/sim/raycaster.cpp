@@ -144,7 +144,7 @@ RayCaster::Hit RayCaster::cast(const Vec3& origin, const Vec3& direction, float 
   return hit;
 }
 
-void RayCaster::cast_packet(const Vec3& origin, const Vec3* directions, int count, float tau, float tnear,
+void RayCaster::cast_packet(const Vec3* origins, const Vec3* directions, int count, float tau, float tnear,
                             float tfar, Hit* hits) const {
   if (count < 0 || count > kPacket)
     throw std::invalid_argument("raycaster: packet of " + std::to_string(count) + " rays");
@@ -156,9 +156,10 @@ void RayCaster::cast_packet(const Vec3& origin, const Vec3* directions, int coun
   for (int i = 0; i < kPacket; ++i) {
     valid[i] = i < count ? -1 : 0;
     const Vec3 d = i < count ? directions[i] : Vec3::UnitX();
-    rh.ray.org_x[i] = static_cast<float>(origin.x());
-    rh.ray.org_y[i] = static_cast<float>(origin.y());
-    rh.ray.org_z[i] = static_cast<float>(origin.z());
+    const Vec3 o = i < count ? origins[i] : origins[0];
+    rh.ray.org_x[i] = static_cast<float>(o.x());
+    rh.ray.org_y[i] = static_cast<float>(o.y());
+    rh.ray.org_z[i] = static_cast<float>(o.z());
     rh.ray.dir_x[i] = static_cast<float>(d.x());
     rh.ray.dir_y[i] = static_cast<float>(d.y());
     rh.ray.dir_z[i] = static_cast<float>(d.z());

@@ -42,10 +42,10 @@ class RayCaster {
   /// Nearest hit along origin + r * direction (unit), r in [tnear, tfar], at sweep time tau.
   /// Thread-safe between commits.
   [[nodiscard]] Hit cast(const Vec3& origin, const Vec3& direction, float tau, float tnear, float tfar) const;
-  /// Up to kPacket rays from one origin at one time, traced as an Embree packet (faster for the
-  /// coherent beams of one column); hits[i] for directions[i].
+  /// Up to kPacket rays at one time, traced as an Embree packet (faster for the coherent beams of
+  /// one column); hits[i] for the ray from origins[i] along directions[i].
   static constexpr int kPacket = 16;
-  void cast_packet(const Vec3& origin, const Vec3* directions, int count, float tau, float tnear, float tfar,
+  void cast_packet(const Vec3* origins, const Vec3* directions, int count, float tau, float tnear, float tfar,
                    Hit* hits) const;
 
  private:
