@@ -4,7 +4,8 @@
 # run with --detector none on both and with the geometric detector on the heavy one.
 # Usage: scripts/traffic_study.sh WORK_DIR [SCENARIO] [TRAFFIC] [FRAMES] [PRESET] [SEEDS...]
 # Prints one row per seed (t_rel % over 10..50 m, per-frame translation RPE in mm, MOS IoU %) and
-# the means. Deterministic: the same arguments give the same table.
+# the means. Deterministic: the same arguments give the same table. DETECTOR=cnn scores the CNN
+# instead of the geometric detector.
 set -euo pipefail
 work=${1:?usage: traffic_study.sh WORK_DIR [SCENARIO] [TRAFFIC] [FRAMES] [PRESET] [SEEDS...]}
 scenario=${2:-urban}
@@ -14,6 +15,7 @@ preset=${5:-HDL-64E}
 shift $(($# < 5 ? $# : 5))
 seeds=${*:-11 12 13 14 15 16 17 18 19 20}
 dloam=${DLOAM:-$(dirname "$0")/../build/apps/dloam}
+detector=${DETECTOR:-geometric}
 mkdir -p "$work"
 : >"$work/runs.log"  # progress and messages of every run
 
@@ -24,7 +26,7 @@ score() {
 }
 iou() { "$dloam" eval mos "$1/labels" "$2/labels" | awk '/points +IoU/ {printf "%.1f", $3 * 100}'; }
 
-printf "%-5s %26s %26s %26s %8s\n" seed "none, traffic 0" "none, traffic $traffic" "geometric, traffic $traffic" "MOS IoU"
+printf "%-5s %26s %26s %26s %8s\n" seed "none, traffic 0" "none, traffic $traffic" "$detector, traffic $traffic" "MOS IoU"
 printf "%-5s %26s %26s %26s %8s\n" "" "t_rel % / RPE mm" "t_rel % / RPE mm" "t_rel % / RPE mm" "%"
 rows=()
 for seed in $seeds; do
@@ -36,15 +38,15 @@ for seed in $seeds; do
   sensor=(--preset "$preset")
   "$dloam" run "$work/$scenario-s$seed-t0" --out "$work/o-s$seed-t0-none" --detector none "${sensor[@]}" \
     >/dev/null 2>>"$work/runs.log"
-  for det in none geometric; do
+  for det in none "$detector"; do
     "$dloam" run "$work/$scenario-s$seed-t$traffic" --out "$work/o-s$seed-t$traffic-$det" --detector "$det" \
       "${sensor[@]}" >/dev/null 2>>"$work/runs.log"
   done
   d="$work/$scenario-s$seed-t$traffic"
   a=$(score "$work/$scenario-s$seed-t0" "$work/o-s$seed-t0-none")
   b=$(score "$d" "$work/o-s$seed-t$traffic-none")
-  c=$(score "$d" "$work/o-s$seed-t$traffic-geometric")
-  m=$(iou "$d" "$work/o-s$seed-t$traffic-geometric")
+  c=$(score "$d" "$work/o-s$seed-t$traffic-$detector")
+  m=$(iou "$d" "$work/o-s$seed-t$traffic-$detector")
   rows+=("$seed $a $b $c $m")
   printf "%-5s %17s / %6s %17s / %6s %17s / %6s %8s\n" $seed $a $b $c $m
 done
