@@ -123,7 +123,10 @@ void print_summary(const std::vector<ScanResult>& results) {
 /// Resolves detector "auto" / the shipped model in `cfg` and loads the CNN when it is used.
 std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& cfg) {
 #ifdef DLOAM_WITH_TORCH
-  return cnn::prepare_detector(cfg.detection, DLOAM_MODEL_DIR);
+  std::string note;
+  auto segmenter = cnn::prepare_detector(cfg.detection, DLOAM_MODEL_DIR, cfg.sensor, &note);
+  if (!note.empty()) fmt::print(stderr, "{}\n", note);
+  return segmenter;
 #else
   if (cfg.detection.detector == "auto") cfg.detection.detector = "geometric";
   if (cfg.detection.detector == "cnn")

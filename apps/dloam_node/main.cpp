@@ -23,7 +23,9 @@ int main(int argc, char** argv) {
     if (!params.out.empty()) std::filesystem::create_directories(params.out);
     std::shared_ptr<dloam::MovingSegmenter> cnn;
 #ifdef DLOAM_WITH_TORCH
-    cnn = dloam::cnn::prepare_detector(config.detection, DLOAM_MODEL_DIR);
+    std::string note;
+    cnn = dloam::cnn::prepare_detector(config.detection, DLOAM_MODEL_DIR, config.sensor, &note);
+    if (!note.empty()) ROS_WARN("dloam: %s", note.c_str());
 #else
     if (config.detection.detector == "auto") config.detection.detector = "geometric";
 #endif

@@ -79,13 +79,16 @@ void save_mos_net(MosNet& net, const std::string& path) {
   torch::serialize::OutputArchive archive;
   archive.write("m", torch::tensor(static_cast<std::int64_t>(net->options.m)));
   archive.write("width", torch::tensor(static_cast<std::int64_t>(net->options.width)));
+  archive.write("trained_rows", torch::tensor(static_cast<std::int64_t>(net->options.trained_rows)));
+  archive.write("trained_cols", torch::tensor(static_cast<std::int64_t>(net->options.trained_cols)));
   net->save(archive);
   const std::string tmp = path + ".tmp";  // atomic: an interrupted save never leaves a broken model
   archive.save_to(tmp);
   std::filesystem::rename(tmp, path);
 }
 
-MosNet load_mos_net(const std::string& path) {
+namespace {
+torch::serialize::InputArchive open_archive(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": model file not found");
   torch::serialize::InputArchive archive;
   try {
@@ -93,12 +96,32 @@ MosNet load_mos_net(const std::string& path) {
   } catch (const std::exception& e) {
     throw InputError(path + ": not a dloam CNN model file (" + std::string(e.what()).substr(0, 200) + ")");
   }
-  torch::Tensor m, width;
+  return archive;
+}
+
+MosNetOptions read_options(torch::serialize::InputArchive& archive, const std::string& path) {
+  torch::Tensor m, width, rows, cols;
   if (!archive.try_read("m", m) || !archive.try_read("width", width))
     throw InputError(path + ": model file without the 'm' / 'width' entries");
   MosNetOptions o;
   o.m = static_cast<int>(m.item<std::int64_t>());
   o.width = static_cast<int>(width.item<std::int64_t>());
+  if (archive.try_read("trained_rows", rows) && archive.try_read("trained_cols", cols)) {
+    o.trained_rows = static_cast<int>(rows.item<std::int64_t>());
+    o.trained_cols = static_cast<int>(cols.item<std::int64_t>());
+  }
+  return o;
+}
+}  // namespace
+
+MosNetOptions read_mos_net_options(const std::string& path) {
+  torch::serialize::InputArchive archive = open_archive(path);
+  return read_options(archive, path);
+}
+
+MosNet load_mos_net(const std::string& path) {
+  torch::serialize::InputArchive archive = open_archive(path);
+  const MosNetOptions o = read_options(archive, path);
   MosNet net(o);
   try {
     net->load(archive);

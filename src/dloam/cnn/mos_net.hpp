@@ -16,6 +16,9 @@ namespace dloam::cnn {
 struct MosNetOptions {
   int m = 6;       ///< speed images in the bag (input channels = 5 + m)
   int width = 16;  ///< channels of the first level; levels use width, 2w, 4w, 4w
+  /// Range-image size of the training data (N_scan x Horizon_SCAN); 0 when the file predates it.
+  /// The network runs on any size, but a 64-beam model on a 16-beam sensor segments poorly.
+  int trained_rows = 0, trained_cols = 0;
 };
 
 /// 3x3 (or 1x1) convolution + batch norm + leaky ReLU.
@@ -60,5 +63,7 @@ std::int64_t parameter_count(MosNet& net);
 /// Saves / loads the weights with the options (m, width) so a file is self-describing.
 void save_mos_net(MosNet& net, const std::string& path);
 MosNet load_mos_net(const std::string& path);
+/// The options stored in a model file (m, width, training image size) without building the net.
+MosNetOptions read_mos_net_options(const std::string& path);
 
 }  // namespace dloam::cnn

@@ -105,7 +105,7 @@ std::vector<EpochReport> train_mos_net(const std::vector<MosSequence>& data, con
   if (n_moving == 0.0) throw std::invalid_argument("train: no moving point in the training frames");
   const double pos_weight = std::sqrt(n_static / n_moving);
 
-  MosNet net(MosNetOptions{o.m, o.width});
+  MosNet net(MosNetOptions{o.m, o.width, sensor.N_scan, sensor.Horizon_SCAN});
   net->train();
   torch::optim::Adam opt(net->parameters(),
                          torch::optim::AdamOptions(o.learning_rate).weight_decay(o.weight_decay));
