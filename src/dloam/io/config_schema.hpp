@@ -88,7 +88,8 @@ void visit(DeskewConfig& c, V& v) {
 template <class V>
 void visit(DetectionConfig& c, V& v) {
   v("detector", c.detector,
-    "dynamic-object detector: none | geometric | cnn | auto (cnn when the model file exists, else geometric)",
+    "dynamic-object detector: none | geometric | cnn | auto (cnn if the model exists and fits the sensor, "
+    "else geometric)",
     Choices{"none", "geometric", "cnn", "auto"});
   v("v_static", c.v_static, "static if range speed |r_k - r_k-1| (eq. 13, m per scan) is below this",
     at_least(0));
