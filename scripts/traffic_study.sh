@@ -28,6 +28,7 @@ iou() { "$dloam" eval mos "$1/labels" "$2/labels" | awk '/points +IoU/ {printf "
 
 printf "%-5s %26s %26s %26s %8s\n" seed "none, traffic 0" "none, traffic $traffic" "$detector, traffic $traffic" "MOS IoU"
 printf "%-5s %26s %26s %26s %8s\n" "" "t_rel % / RPE mm" "t_rel % / RPE mm" "t_rel % / RPE mm" "%"
+sensor=(--preset "$preset")
 rows=()
 for seed in $seeds; do
   for t in 0 "$traffic"; do
@@ -35,14 +36,13 @@ for seed in $seeds; do
     [ -f "$d/poses.txt" ] || "$dloam" simulate --scenario "$scenario" --frames "$frames" --seed "$seed" \
       --traffic "$t" --preset "$preset" --out "$d" >/dev/null 2>>"$work/runs.log"
   done
-  sensor=(--preset "$preset")
   "$dloam" run "$work/$scenario-s$seed-t0" --out "$work/o-s$seed-t0-none" --detector none "${sensor[@]}" \
     >/dev/null 2>>"$work/runs.log"
   for det in none "$detector"; do
     "$dloam" run "$work/$scenario-s$seed-t$traffic" --out "$work/o-s$seed-t$traffic-$det" --detector "$det" \
       "${sensor[@]}" >/dev/null 2>>"$work/runs.log"
   done
-  d="$work/$scenario-s$seed-t$traffic"
+  d="$work/$scenario-s$seed-t$traffic"  # the drive in traffic
   a=$(score "$work/$scenario-s$seed-t0" "$work/o-s$seed-t0-none")
   b=$(score "$d" "$work/o-s$seed-t$traffic-none")
   c=$(score "$d" "$work/o-s$seed-t$traffic-$detector")

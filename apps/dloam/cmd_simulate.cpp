@@ -152,7 +152,7 @@ void prepare_output(const SimulateArgs& a) {
 void run(SimulateArgs a) {
   a.params.kind = sim::parse_scenario_kind(a.scenario);
   sim::LidarOptions lidar;
-  lidar.sensor = a.config.empty() ? sensor_preset(a.preset) : io::config_from(a.preset, a.config).sensor;
+  lidar.sensor = io::config_from(a.preset, a.config).sensor;  // the preset, then the file's sensor keys
   lidar.range_noise = a.noise;
   lidar.dropout = a.dropout;
   lidar.seed = a.params.seed;

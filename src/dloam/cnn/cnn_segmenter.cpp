@@ -46,8 +46,9 @@ std::string resolve_model_path(const DetectionConfig& detection, const std::stri
 std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir,
                                                   const SensorConfig& sensor, std::string* note) {
   const std::string path = resolve_model_path(detection, model_dir);
+  const bool have_model = std::filesystem::exists(path);
   std::string mismatch;  // the model's training image size when it is not this sensor's
-  if ((detection.detector == "auto" || detection.detector == "cnn") && std::filesystem::exists(path)) {
+  if ((detection.detector == "auto" || detection.detector == "cnn") && have_model) {
     const MosNetOptions o = read_mos_net_options(path);
     if (o.trained_rows > 0 && (o.trained_rows != sensor.N_scan || o.trained_cols != sensor.Horizon_SCAN))
       mismatch = path + " was trained on " + std::to_string(o.trained_rows) + " x " +
@@ -55,7 +56,7 @@ std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, co
                  std::to_string(sensor.N_scan) + " x " + std::to_string(sensor.Horizon_SCAN);
   }
   if (detection.detector == "auto") {
-    detection.detector = std::filesystem::exists(path) && mismatch.empty() ? "cnn" : "geometric";
+    detection.detector = have_model && mismatch.empty() ? "cnn" : "geometric";
     if (note && !mismatch.empty()) *note = mismatch + ": detector auto uses the geometric detector";
   } else if (detection.detector == "cnn" && note && !mismatch.empty()) {
     *note = "warning: " + mismatch + "; its moving-object segmentation may be poor";
