@@ -230,6 +230,31 @@ TEST(SpeedMatrix, StaticAreaPeaksAtTheEgoMotionNotAtACoMovingCar) {
   EXPECT_NEAR(found.translation().y(), 0.0, 1e-12);
 }
 
+TEST(SpeedMatrix, StaticAreaIgnoresTerrainTheGroundSegmentationMissed) {
+  // Far terrain the ground segmentation left as a cluster (a highway verge) is seen at grazing
+  // incidence: with no motion its rows repeat exactly, with any motion they land on rows of very
+  // different range. Counted, it outweighs the building and puts the search at standing still.
+  const SensorConfig s = test::scene_sensor();
+  const Frame prev = cast(0.0, 8.0, s);
+  Frame cur = cast(2.0, 10.0, s);
+  const auto range = image_of(prev, s).range;
+  std::size_t relabelled = 0;
+  for (std::size_t px = 0; px < cur.seg.pixel_label.size(); ++px) {
+    const int i = cur.seg.image.point_of_pixel[px];
+    if (i < 0 || cur.id[static_cast<std::size_t>(i)] != kGround ||
+        cur.points[static_cast<std::size_t>(i)].norm() < 15.0)
+      continue;
+    cur.seg.pixel_label[px] = cur.seg.num_clusters + 1;
+    ++relabelled;
+  }
+  ASSERT_GT(relabelled, 3000u);
+  auto score = [&](const Pose& T) {
+    return static_area(cur.seg.image, cur.points, cur.seg.pixel_label, T, range, s, 0.2, 1);
+  };
+  EXPECT_GT(score(translation(2.0)), 1.5 * score(translation(0.0)));
+  const Pose found = search_forward_translation(Pose::Identity(), 4.0, 0.2, score);
+  EXPECT_NEAR(found.translation().x(), 2.0, 0.21);
+}
 TEST(ObjectTracker, HoldsOnlyConfirmedDynamicObjects) {
   // One cluster over a 1 x 10 image that lands on itself. Its static fraction 0.6 is above alpha
   // (static) but below alpha_tracked: only an object dynamic in the last two scans is held dynamic.

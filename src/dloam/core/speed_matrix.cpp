@@ -102,6 +102,26 @@ SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Ve
   return S;
 }
 
+namespace {
+// A surface seen at grazing incidence (terrain, a road beyond the ground segmentation): its range
+// changes by metres from one row to the next, so any change of pose moves its points across rows to
+// ranges that say nothing of motion, while standing still repeats the rows exactly. It votes for no
+// motion whatever the motion is. Grazing: the segment to the pixel above or below lies within 20 deg
+// of the ray.
+bool grazing(const RangeImage& image, const std::vector<Vec3>& points, std::size_t px) {
+  constexpr double kGrazingCos = 0.9397;  // cos(20 deg)
+  const auto cols = static_cast<std::size_t>(image.cols);
+  const int i = image.point_of_pixel[px];
+  const Vec3& p = points[static_cast<std::size_t>(i)];
+  for (const std::size_t other : {px + cols, px - cols}) {  // the row below / above (px - cols wraps)
+    if (other >= image.point_of_pixel.size() || image.point_of_pixel[other] < 0) continue;
+    const Vec3 d = points[static_cast<std::size_t>(image.point_of_pixel[other])] - p;
+    if (std::abs(d.dot(p)) > kGrazingCos * d.norm() * p.norm()) return true;
+  }
+  return false;
+}
+}  // namespace
+
 double static_area(const RangeImage& current, const std::vector<Vec3>& current_points,
                    const std::vector<int>& pixel_label, const Pose& current_to_previous,
                    const std::vector<float>& previous, const SensorConfig& sensor, double v_static,
@@ -114,7 +134,7 @@ double static_area(const RangeImage& current, const std::vector<Vec3>& current_p
   const auto step = static_cast<std::size_t>(std::max(1, stride));
   for (std::size_t px = 0; px < pixel_label.size(); px += step) {
     const int i = current.point_of_pixel[px];
-    if (i < 0 || pixel_label[px] <= 0) continue;
+    if (i < 0 || pixel_label[px] <= 0 || grazing(current, current_points, px)) continue;
     const Vec3 q = current_to_previous * current_points[static_cast<std::size_t>(i)];
     const float s = point_speed(q, previous, proj, sensor.Horizon_SCAN, pixel, behind);
     if (s >= 0.0f && s < v_static) n += q.squaredNorm();

@@ -44,7 +44,8 @@ SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Ve
 /// The surface (sum of squared ranges, a pixel's footprint grows with r^2) of the cluster pixels
 /// (pixel_label > 0, every `stride`-th pixel) whose speed is known and below `v_static` with the
 /// motion `current_to_previous`: the score of a candidate motion when there is no prior (the static
-/// world is most of a scan's surface, nearby vehicles most of its pixels).
+/// world is most of a scan's surface, nearby vehicles most of its pixels). Pixels on surfaces seen at
+/// grazing incidence (terrain left as clusters) are not counted: they look static with no motion.
 double static_area(const RangeImage& current, const std::vector<Vec3>& current_points,
                    const std::vector<int>& pixel_label, const Pose& current_to_previous,
                    const std::vector<float>& previous_range, const SensorConfig& sensor, double v_static,
