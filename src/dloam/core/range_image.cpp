@@ -26,7 +26,8 @@ double fast_atan2(double y, double x) {
 }
 
 double azimuth_time(double x, double y) {
-  double t = (M_PI - fast_atan2(y, x)) / (2.0 * M_PI);
+  constexpr double kInvTwoPi = 0.5 / M_PI;  // a product: this runs for every point of every projection
+  double t = (M_PI - fast_atan2(y, x)) * kInvTwoPi;
   if (t >= 1.0) t -= 1.0;
   if (t < 0.0) t += 1.0;
   return t;

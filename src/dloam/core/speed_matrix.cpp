@@ -42,7 +42,9 @@ class Projector {
     if (!beams_.locate(q, row, row2)) return false;
     const double t = azimuth_time(q.x(), q.y()) * cols_;
     col = std::min(static_cast<int>(t), cols_ - 1);
-    col2 = ((t - col >= 0.5 ? col + 1 : col - 1) + cols_) % cols_;
+    col2 = t - col >= 0.5 ? col + 1 : col - 1;  // wrapped without a division (every point of a scan)
+    if (col2 == cols_) col2 = 0;
+    if (col2 < 0) col2 = cols_ - 1;
     return true;
   }
 
