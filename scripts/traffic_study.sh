@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # How much does traffic cost the odometry, and how much of it does the detector win back?
 # For each seed: the same simulated street without road users (traffic 0) and with heavy traffic,
-# run with --detector none on both and with the geometric detector on the heavy one.
+# run with --detector none on both and with the geometric detector on the heavy one; and, as the
+# perfect detector's reference, `none` on the heavy one with its labelled moving points deleted
+# (--drop-labelled-moving).
 # Usage: scripts/traffic_study.sh WORK_DIR [SCENARIO] [TRAFFIC] [FRAMES] [PRESET] [SEEDS...]
 # Prints one row per seed (t_rel % over 10..50 m, per-frame translation RPE in mm, MOS IoU %) and
 # the means. Deterministic: the same arguments give the same table. DETECTOR=cnn scores the CNN
@@ -26,8 +28,11 @@ score() {
 }
 iou() { "$dloam" eval mos "$1/labels" "$2/labels" | awk '/points +IoU/ {printf "%.1f", $3 * 100}'; }
 
-printf "%-5s %26s %26s %26s %8s\n" seed "none, traffic 0" "none, traffic $traffic" "$detector, traffic $traffic" "MOS IoU"
-printf "%-5s %26s %26s %26s %8s\n" "" "t_rel % / RPE mm" "t_rel % / RPE mm" "t_rel % / RPE mm" "%"
+row='%-5s %17s / %6s %17s / %6s %17s / %6s %8s %17s / %6s\n'
+head='%-5s %26s %26s %26s %8s %26s\n'
+printf "$head" seed "none, traffic 0" "none, traffic $traffic" "$detector, traffic $traffic" "MOS IoU" \
+  "none, movers deleted"
+printf "$head" "" "t_rel % / RPE mm" "t_rel % / RPE mm" "t_rel % / RPE mm" "%" "t_rel % / RPE mm"
 sensor=(--preset "$preset")
 rows=()
 for seed in $seeds; do
@@ -36,19 +41,24 @@ for seed in $seeds; do
     [ -f "$d/poses.txt" ] || "$dloam" simulate --scenario "$scenario" --frames "$frames" --seed "$seed" \
       --traffic "$t" --preset "$preset" --out "$d" >/dev/null 2>>"$work/runs.log"
   done
+  d="$work/$scenario-s$seed-t$traffic"  # the drive in traffic
   "$dloam" run "$work/$scenario-s$seed-t0" --out "$work/o-s$seed-t0-none" --detector none "${sensor[@]}" \
     >/dev/null 2>>"$work/runs.log"
   for det in none "$detector"; do
-    "$dloam" run "$work/$scenario-s$seed-t$traffic" --out "$work/o-s$seed-t$traffic-$det" --detector "$det" \
-      "${sensor[@]}" >/dev/null 2>>"$work/runs.log"
+    "$dloam" run "$d" --out "$work/o-s$seed-t$traffic-$det" --detector "$det" "${sensor[@]}" \
+      >/dev/null 2>>"$work/runs.log"
   done
-  d="$work/$scenario-s$seed-t$traffic"  # the drive in traffic
+  "$dloam" run "$d" --out "$work/o-s$seed-t$traffic-oracle" --detector none --drop-labelled-moving \
+    "${sensor[@]}" >/dev/null 2>>"$work/runs.log"
   a=$(score "$work/$scenario-s$seed-t0" "$work/o-s$seed-t0-none")
   b=$(score "$d" "$work/o-s$seed-t$traffic-none")
   c=$(score "$d" "$work/o-s$seed-t$traffic-$detector")
   m=$(iou "$d" "$work/o-s$seed-t$traffic-$detector")
-  rows+=("$seed $a $b $c $m")
-  printf "%-5s %17s / %6s %17s / %6s %17s / %6s %8s\n" $seed $a $b $c $m
+  o=$(score "$d" "$work/o-s$seed-t$traffic-oracle")
+  rows+=("$seed $a $b $c $m $o")
+  printf "$row" $seed $a $b $c $m $o
 done
-printf "%s\n" "${rows[@]}" | awk '{for (i = 2; i <= 8; ++i) s[i] += $i; n++}
-  END {printf "%-5s %17.4f / %6.1f %17.4f / %6.1f %17.4f / %6.1f %8.1f\n", "mean", s[2]/n, s[3]/n, s[4]/n, s[5]/n, s[6]/n, s[7]/n, s[8]/n}'
+printf "%s\n" "${rows[@]}" | awk -v row="$row" '{for (i = 2; i <= 10; ++i) s[i] += $i; n++}
+  END {printf row, "mean", sprintf("%.4f", s[2]/n), sprintf("%.1f", s[3]/n), sprintf("%.4f", s[4]/n),
+       sprintf("%.1f", s[5]/n), sprintf("%.4f", s[6]/n), sprintf("%.1f", s[7]/n), sprintf("%.1f", s[8]/n),
+       sprintf("%.4f", s[9]/n), sprintf("%.1f", s[10]/n)}'

@@ -213,3 +213,38 @@ TEST(SimulateCli, SimulatesTheSensorOfAConfigFile) {
   EXPECT_THAT(typo.output, HasSubstr("typo.yaml"));
   EXPECT_THAT(typo.output, HasSubstr("N_scna"));
 }
+
+TEST(RunCli, DropLabelledMovingRunsOnTheStaticPointsOnly) {
+  // The perfect detector's reference of the traffic study: the points labels/ marks moving never
+  // reach the pipeline (no feature and no map point on them), and the written labels mark them moving.
+  const std::string data = DLOAM_KITTI_0005;
+  if (!std::filesystem::exists(data)) GTEST_SKIP() << data << " is absent";
+  if (!std::filesystem::exists(DLOAM_BINARY)) GTEST_SKIP() << "no dloam binary";
+  TempDir dir;
+  const std::string config = " --config " + std::string(DLOAM_SOURCE_DIR) + "/config/kitti-raw.yaml";
+  const CliRun run = run_dloam("run " + data + " --out " + dir.file("o") + config +
+                               " --count 4 --detector geometric --drop-labelled-moving");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("moving points sent to the map: 0.000 %"));
+  EXPECT_THAT(run.output, HasSubstr("effective features (Table III): 100.00 %"));
+  std::size_t moving = 0;
+  for (int i = 0; i < 4; ++i) {
+    const auto scan = read_kitti_bin(data + "/velodyne/" + scan_name(i) + ".bin");
+    const auto gt = read_labels(data + "/labels/" + scan_name(i) + ".label", scan.size());
+    const auto out = read_labels(dir.file("o/labels/" + scan_name(i) + ".label"), scan.size());
+    for (std::size_t k = 0; k < gt.size(); ++k) {
+      if (!semantic::is_moving(gt[k])) continue;
+      ++moving;
+      EXPECT_TRUE(semantic::is_moving(out[k])) << "scan " << i << " point " << k;
+    }
+  }
+  EXPECT_GT(moving, 1000u);
+  // Without labels there is nothing to delete: an error naming the folder and the option.
+  ASSERT_EQ(run_dloam("simulate --frames 2 --out " + dir.file("sim")).status, 0);
+  std::filesystem::remove_all(dir.file("sim/labels"));
+  const CliRun bare =
+      run_dloam("run " + dir.file("sim") + " --out " + dir.file("b") + " --drop-labelled-moving");
+  EXPECT_NE(bare.status, 0);
+  EXPECT_THAT(bare.output, HasSubstr("--drop-labelled-moving needs"));
+  EXPECT_THAT(bare.output, HasSubstr("sim"));
+}

@@ -36,6 +36,7 @@ struct RunArgs {
   std::string sequence, topic, out, config_path, preset, detector, deskew;
   std::vector<double> lengths;
   long first = 0, count = -1;
+  bool drop_moving = false;
 };
 
 PipelineConfig make_config(const RunArgs& a) {
@@ -98,6 +99,32 @@ struct LabelStats {
   }
 };
 
+/// The scan without the points the ground truth labels moving (--drop-labelled-moving): what a
+/// perfect detector would leave. `kept`: input index of each remaining point.
+PointCloud without_moving(const PointCloud& cloud, const std::vector<Label>& gt,
+                          std::vector<std::size_t>& kept) {
+  PointCloud out;
+  kept.clear();
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (semantic::is_moving(gt[i])) continue;
+    kept.push_back(i);
+    out.xyz.push_back(cloud.xyz[i]);
+    if (cloud.has_intensity()) out.intensity.push_back(cloud.intensity[i]);
+    if (cloud.has_time()) out.time.push_back(cloud.time[i]);
+  }
+  return out;
+}
+
+/// A result of the reduced scan in the input's point indices; the dropped points are moving.
+void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::size_t input_size) {
+  for (auto* idx : {&r.edge_features, &r.plane_features, &r.map_points})
+    for (std::size_t& i : *idx) i = kept[i];
+  if (r.labels.empty()) return;
+  std::vector<Label> labels(input_size, semantic::kMovingGeneric);
+  for (std::size_t j = 0; j < kept.size(); ++j) labels[kept[j]] = r.labels[j];
+  r.labels = std::move(labels);
+}
+
 void write_trajectories(const std::string& dir, const io::Sequence& seq,
                         const std::vector<Pose>& lidar_poses) {
   // Same frame convention as the input's poses.txt: camera frame when calib.txt has Tr.
@@ -143,6 +170,8 @@ void run(const RunArgs& a) {
   if (first >= seq.size())
     throw InputError(
         fmt::format("{}: --first {} but the sequence has {} scans", a.sequence, first, seq.size()));
+  if (a.drop_moving && !seq.has_labels())
+    throw InputError(a.sequence + ": --drop-labelled-moving needs ground-truth labels (labels/*.label)");
   const std::size_t last =
       a.count < 0 ? seq.size() : std::min(seq.size(), first + static_cast<std::size_t>(a.count));
   fs::create_directories(a.out);
@@ -162,9 +191,13 @@ void run(const RunArgs& a) {
   for (std::size_t i = first; i < last && !g_stop; ++i) {
     const PointCloud cloud = seq.read_scan(i);
     if (i == first) check_sensor_fits(cloud, cfg.sensor, seq.scan_files[i]);
-    ScanResult r = pipeline.process(cloud);
+    const std::vector<Label> gt =
+        seq.has_labels() ? seq.read_scan_labels(i, cloud.size()) : std::vector<Label>{};
+    std::vector<std::size_t> kept;
+    ScanResult r = pipeline.process(a.drop_moving ? without_moving(cloud, gt, kept) : cloud);
+    if (a.drop_moving) restore_indices(r, kept, cloud.size());
     r.index = i;
-    if (seq.has_labels()) label_stats.add(seq.read_scan_labels(i, cloud.size()), r);
+    if (seq.has_labels()) label_stats.add(gt, r);
     if (labels_on) io::write_labels(fmt::format("{}/labels/{}.label", a.out, io::scan_name(i)), r.labels);
     poses.push_back(r.pose);
     r.labels = {};  // keep only what timing.csv needs
@@ -230,6 +263,10 @@ void register_run(CLI::App& app) {
   cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
   cmd->add_option("--detector", args->detector, "dynamic-object detector: none, geometric or cnn")
       ->check(CLI::IsMember({"none", "geometric", "cnn"}));
+  cmd->add_flag(
+      "--drop-labelled-moving", args->drop_moving,
+      "delete the points labels/ marks moving before the pipeline sees them: a perfect "
+      "detector's reference for studies (use with --detector none); written labels mark them moving");
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--lengths", args->lengths,
