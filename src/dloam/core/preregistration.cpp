@@ -1,5 +1,7 @@
 #include "dloam/core/preregistration.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -136,21 +138,26 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
 
 Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score) {
-  int best_k = 0;
-  double best_score = -1.0;
   const int steps = step > 0.0 ? static_cast<int>(std::floor(range / step)) : 0;
-  for (int k = -steps; k <= steps; ++k) {
+  const auto candidate = [&](int k) {
     Pose T = initial;
     T.translation() += Vec3(k * step, 0.0, 0.0);
-    const double s = score(T);
+    return T;
+  };
+  // The candidates are independent (a full-image score each): scored in parallel, chosen in order.
+  std::vector<double> scores(static_cast<std::size_t>(2 * steps + 1));
+  tbb::parallel_for(-steps, steps + 1,
+                    [&](int k) { scores[static_cast<std::size_t>(k + steps)] = score(candidate(k)); });
+  int best_k = 0;
+  double best_score = -1.0;
+  for (int k = -steps; k <= steps; ++k) {
+    const double s = scores[static_cast<std::size_t>(k + steps)];
     if (s > best_score || (s == best_score && std::abs(k) < std::abs(best_k))) {
       best_score = s;
       best_k = k;
     }
   }
-  Pose best = initial;
-  best.translation() += Vec3(best_k * step, 0.0, 0.0);
-  return best;
+  return candidate(best_k);
 }
 
 bool within_motion_gate(const Pose& change, const PreRegistrationConfig& config) {

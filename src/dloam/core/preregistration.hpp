@@ -55,7 +55,7 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
 
 /// The first scan pair has no motion prior: the pose translation(dx) * `initial` (dx along the
 /// sensor's x axis, the driving direction, in [-range, range] by `step`) with the highest `score`
-/// (ties: the smallest |dx|).
+/// (ties: the smallest |dx|). `score` is called concurrently (the candidates in parallel).
 Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score);
 
