@@ -221,8 +221,9 @@ TEST(SpeedMatrix, StaticAreaPeaksAtTheEgoMotionNotAtACoMovingCar) {
   const Frame prev = cast(0.0, 8.0, s);
   const Frame cur = cast(2.0, 10.0, s);
   const auto range = image_of(prev, s).range;
+  const std::vector<int> pixels = static_area_pixels(cur.seg.image, cur.points, cur.seg.pixel_label, 1);
   auto score = [&](const Pose& T) {
-    return static_area(cur.seg.image, cur.points, cur.seg.pixel_label, T, range, s, 0.2, 1);
+    return static_area(cur.seg.image, cur.points, pixels, T, range, s, 0.2);
   };
   EXPECT_GT(score(translation(2.0)), 1.5 * score(translation(0.0)));
   const Pose found = search_forward_translation(Pose::Identity(), 4.0, 0.2, score);
@@ -248,8 +249,9 @@ TEST(SpeedMatrix, StaticAreaIgnoresTerrainTheGroundSegmentationMissed) {
     ++relabelled;
   }
   ASSERT_GT(relabelled, 3000u);
+  const std::vector<int> pixels = static_area_pixels(cur.seg.image, cur.points, cur.seg.pixel_label, 1);
   auto score = [&](const Pose& T) {
-    return static_area(cur.seg.image, cur.points, cur.seg.pixel_label, T, range, s, 0.2, 1);
+    return static_area(cur.seg.image, cur.points, pixels, T, range, s, 0.2);
   };
   EXPECT_GT(score(translation(2.0)), 1.5 * score(translation(0.0)));
   const Pose found = search_forward_translation(Pose::Identity(), 4.0, 0.2, score);

@@ -124,19 +124,28 @@ bool grazing(const RangeImage& image, const std::vector<Vec3>& points, std::size
 }
 }  // namespace
 
+std::vector<int> static_area_pixels(const RangeImage& current, const std::vector<Vec3>& current_points,
+                                    const std::vector<int>& pixel_label, int stride) {
+  std::vector<int> out;
+  const auto step = static_cast<std::size_t>(std::max(1, stride));
+  for (std::size_t px = 0; px < pixel_label.size(); px += step) {
+    const int i = current.point_of_pixel[px];
+    if (i < 0 || pixel_label[px] <= 0 || grazing(current, current_points, px)) continue;
+    out.push_back(static_cast<int>(px));
+  }
+  return out;
+}
+
 double static_area(const RangeImage& current, const std::vector<Vec3>& current_points,
-                   const std::vector<int>& pixel_label, const Pose& current_to_previous,
-                   const std::vector<float>& previous, const SensorConfig& sensor, double v_static,
-                   int stride) {
+                   const std::vector<int>& pixels, const Pose& current_to_previous,
+                   const std::vector<float>& previous, const SensorConfig& sensor, double v_static) {
   check_sizes(current, previous, sensor, "static_area");
   double n = 0.0;
   int pixel = -1;
   bool behind = false;
   const Projector proj(sensor);
-  const auto step = static_cast<std::size_t>(std::max(1, stride));
-  for (std::size_t px = 0; px < pixel_label.size(); px += step) {
-    const int i = current.point_of_pixel[px];
-    if (i < 0 || pixel_label[px] <= 0 || grazing(current, current_points, px)) continue;
+  for (const int px : pixels) {
+    const int i = current.point_of_pixel[static_cast<std::size_t>(px)];
     const Vec3 q = current_to_previous * current_points[static_cast<std::size_t>(i)];
     const float s = point_speed(q, previous, proj, sensor.Horizon_SCAN, pixel, behind);
     if (s >= 0.0f && s < v_static) n += q.squaredNorm();

@@ -41,14 +41,18 @@ SpeedMatrix compute_speed_matrix(const RangeImage& current, const std::vector<Ve
                                  const Pose& current_to_previous, const std::vector<float>& previous_range,
                                  const SensorConfig& sensor);
 
-/// The surface (sum of squared ranges, a pixel's footprint grows with r^2) of the cluster pixels
-/// (pixel_label > 0, every `stride`-th pixel) whose speed is known and below `v_static` with the
-/// motion `current_to_previous`: the score of a candidate motion when there is no prior (the static
-/// world is most of a scan's surface, nearby vehicles most of its pixels). Pixels on surfaces seen at
-/// grazing incidence (terrain left as clusters) are not counted: they look static with no motion.
+/// The pixels static_area scores: every `stride`-th pixel of a cluster (pixel_label > 0) that has a
+/// point, except pixels on surfaces seen at grazing incidence (terrain left as clusters): those
+/// look static with no motion whatever the motion is. Computed once per scan pair, not per candidate.
+std::vector<int> static_area_pixels(const RangeImage& current, const std::vector<Vec3>& current_points,
+                                    const std::vector<int>& pixel_label, int stride);
+
+/// The surface (sum of squared ranges, a pixel's footprint grows with r^2) of `pixels` (from
+/// static_area_pixels) whose speed is known and below `v_static` with the motion
+/// `current_to_previous`: the score of a candidate motion when there is no prior (the static world
+/// is most of a scan's surface, nearby vehicles most of its pixels).
 double static_area(const RangeImage& current, const std::vector<Vec3>& current_points,
-                   const std::vector<int>& pixel_label, const Pose& current_to_previous,
-                   const std::vector<float>& previous_range, const SensorConfig& sensor, double v_static,
-                   int stride);
+                   const std::vector<int>& pixels, const Pose& current_to_previous,
+                   const std::vector<float>& previous_range, const SensorConfig& sensor, double v_static);
 
 }  // namespace dloam

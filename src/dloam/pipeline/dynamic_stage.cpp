@@ -35,10 +35,10 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
   // Score of a forward translation: cluster pixels that look static with it (subsampled), with a
   // static threshold matching the step. A coarse search, then a fine one around its best: an
   // error of half a coarse step already exceeds v_static on surfaces facing the motion.
+  const std::vector<int> scored = static_area_pixels(seg.image, deskewed, seg.pixel_label, 3);
   const auto score_with = [&](double v) {
     return [&, v](const Pose& T) {
-      return static_area(seg.image, deskewed, seg.pixel_label, T, previous_vertices_.range, config_.sensor, v,
-                         3);
+      return static_area(seg.image, deskewed, scored, T, previous_vertices_.range, config_.sensor, v);
     };
   };
   constexpr double kStep = 0.2;       // m
