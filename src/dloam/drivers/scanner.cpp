@@ -1,0 +1,3 @@
+#include "dloam/drivers/scanner.hpp"
+
+namespace dloam::drivers {}  // namespace dloam::drivers
