@@ -46,6 +46,19 @@ struct ScannerOptions {
   double max_range = 0.0;
 };
 
+/// What a vendor's scanner is made from (`make_velodyne_scanner`, `make_ouster_scanner`,
+/// `make_hesai_scanner`, each beside a `looks_like_<vendor>(const Packet&)` that tells the vendor's
+/// data packets by size and magic).
+struct DriverOptions {
+  /// Model name as the vendor writes it ("VLP-16", "OS-1-128", "PandarXT32"); empty: from the packets.
+  std::string model;
+  /// Calibration file: the ROS velodyne driver's calibration YAML, Ouster's sensor metadata JSON,
+  /// Hesai's angle-correction CSV. Empty: the model's built-in nominal table (an Ouster stream
+  /// cannot be decoded without its JSON).
+  std::string calibration;
+  ScannerOptions scan;
+};
+
 /// The returns of one rotation, in decoding order (packet, firing, channel, return).
 struct Scan {
   /// Sensor frame: x forward, y left, z up (ROS REP 103), metres, at each point's firing time.
