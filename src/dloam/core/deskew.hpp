@@ -2,11 +2,20 @@
 // reference time of its sweep by the linearly interpolated inter-scan motion.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "dloam/core/types.hpp"
 
 namespace dloam {
+
+/// III.D.2 Motion-distortion removal (eq. 12).
+struct DeskewConfig {
+  bool enabled = true;
+  /// "auto": the data's per-point time channel when present, else from the azimuth.
+  /// "azimuth": always from the azimuth. "none": no time, no de-skew.
+  std::string time_source = "auto";
+};
 
 /// Per-point time in [0, 1) of the sweep: the data's time channel when `use_channel` and present,
 /// else from the azimuth (the sweep starts at the rear and turns clockwise, see range_image.hpp).

@@ -9,9 +9,34 @@
 
 #include "dloam/core/registration.hpp"
 #include "dloam/core/segmentation.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.D.1 Pre-registration: PCA pole/plane objects, RANSAC/ICP between adjacent scans.
+struct PreRegistrationConfig {
+  bool enabled = true;
+  int N_PCA = 30;
+  double xi_1 = 0.85;       ///< pole: normalised lambda_1 above
+  double xi_2 = 0.1;        ///< pole: normalised lambda_2 (~lambda_3) below
+  double xi_3 = 0.95;       ///< pole: |e_1 . n_ground| above
+  double xi_4 = 0.1;        ///< plane: normalised lambda_3 below
+  double xi_5 = 0.05;       ///< plane: |e_3 . n_ground| below (normal is horizontal)
+  int N_coarse = 5;         ///< RANSAC iterations of ICP
+  double trim_ratio = 0.1;  ///< worst fraction discarded per iteration
+  /// m: the first scan pair has no motion prior; T_coarse starts from the best forward translation
+  /// in [-search_range, search_range] (0: start from identity, as the constant-velocity prior).
+  double search_range = 4.0;
+  /// Motion gate: a T_coarse that differs from the constant-velocity prediction by more than this
+  /// (rotation deg / translation m, per scan) is rejected and the prediction is used instead. At
+  /// 10 Hz a vehicle changes its motion per scan by centimetres and tenths of a degree; a larger
+  /// jump comes from a few objects registered wrongly (co-moving traffic, repeated posts).
+  double max_rotation_change_deg = 1.0;
+  double max_translation_change = 0.3;
+  /// dloam's addition: T_coarse refined by a projective point-to-plane alignment of the current
+  /// scan onto the previous range image (core/range_alignment.hpp). Eq. 13 needs the motion to a
+  /// few centimetres; the objects of a 16-beam scan give it to a decimetre and a degree.
+  bool refine = true;
+};
 
 enum class ObjectShape { kOther, kPole, kPlane };
 
