@@ -126,14 +126,13 @@ void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::s
 }
 
 void write_trajectories(const std::string& dir, const io::Sequence& seq,
-                        const std::vector<Pose>& lidar_poses) {
+                        const std::vector<ScanResult>& results, const std::vector<Pose>& lidar_poses) {
   // Same frame convention as the input's poses.txt: camera frame when calib.txt has Tr.
   const bool camera = seq.calib && seq.calib->has_Tr;
   const auto poses = camera ? io::lidar_to_camera(lidar_poses, seq.calib->Tr) : lidar_poses;
   io::write_kitti_poses(dir + "/poses.txt", poses);
   std::vector<io::StampedPose> tum;
-  for (std::size_t i = 0; i < poses.size(); ++i)
-    tum.push_back({i < seq.times.size() ? seq.times[i] : 0.1 * static_cast<double>(i), poses[i]});
+  for (std::size_t i = 0; i < poses.size(); ++i) tum.push_back({results[i].stamp, poses[i]});
   io::write_tum_poses(dir + "/poses_tum.txt", tum);
 }
 
@@ -145,6 +144,52 @@ void print_summary(const std::vector<ScanResult>& results) {
   for (std::size_t m = 0; m < mean.ms.size(); ++m)
     fmt::print("  {:<13} {:8.2f}\n", kModuleNames[m], mean.ms[m]);
   fmt::print("  => {:.1f} scans/s\n", mean[Module::kTotal] > 0 ? 1000.0 / mean[Module::kTotal] : 0.0);
+}
+
+/// How the tracking went: scans lost before the scans of the run (gaps in the stamps), steps the
+/// odometry re-initialised or could not estimate, degenerate scans.
+nlohmann::json tracking_json(const std::vector<ScanResult>& results) {
+  std::size_t gaps = 0, missed = 0, degenerate = 0, searched = 0, reinitialized = 0;
+  std::vector<std::size_t> lost;
+  double max_dt = 0.0;
+  for (const ScanResult& r : results) {
+    gaps += r.missed_scans > 0;
+    missed += static_cast<std::size_t>(r.missed_scans);
+    degenerate += r.degenerate;
+    searched += r.search_candidates > 0;
+    reinitialized += r.reinitialized;
+    if (r.lost) lost.push_back(r.index);
+    max_dt = std::max(max_dt, r.dt);
+  }
+  return {{"scans", results.size()},       {"gaps", gaps},
+          {"missed_scans", missed},        {"max_interval_s", max_dt},
+          {"searched_steps", searched},    {"reinitialized_steps", reinitialized},
+          {"lost_steps", lost.size()},     {"lost_scans", lost},
+          {"degenerate_scans", degenerate}};
+}
+
+void print_tracking(const std::vector<ScanResult>& results) {
+  const nlohmann::json t = tracking_json(results);
+  if (t["gaps"].get<std::size_t>() > 0)
+    fmt::print("gaps in the scan times: {} ({} scans missing, longest interval {:.3f} s)\n",
+               t["gaps"].get<std::size_t>(), t["missed_scans"].get<std::size_t>(),
+               t["max_interval_s"].get<double>());
+  if (t["reinitialized_steps"].get<std::size_t>() > 0)
+    fmt::print("steps re-initialised by a search (the prediction did not fit): {}\n",
+               t["reinitialized_steps"].get<std::size_t>());
+  if (t["lost_steps"].get<std::size_t>() > 0)
+    fmt::print("steps that could not be estimated (listed in metrics.json): {}\n",
+               t["lost_steps"].get<std::size_t>());
+  if (t["degenerate_scans"].get<std::size_t>() > 0)
+    fmt::print("degenerate scans: {}\n", t["degenerate_scans"].get<std::size_t>());
+}
+
+/// Adds the tracking figures to metrics.json (created when the run has no ground truth).
+void merge_tracking_summary(const std::string& path, const std::vector<ScanResult>& results) {
+  nlohmann::json j = nlohmann::json::object();
+  if (fs::exists(path)) j = nlohmann::json::parse(std::ifstream(path));
+  j["tracking"] = tracking_json(results);
+  io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
 }
 
 /// Resolves detector "auto" / the shipped model in `cfg` and loads the CNN when it is used.
@@ -208,7 +253,7 @@ void run(const RunArgs& a) {
     r.map_points = {};
     results.push_back(std::move(r));
     if (results.size() % 50 == 0)
-      write_trajectories(a.out, seq, poses);  // an interrupted run keeps its poses
+      write_trajectories(a.out, seq, results, poses);  // an interrupted run keeps its poses
     progress.update(results.size(), fmt::format("{:.0f} ms/scan", results.back().times[Module::kTotal]));
   }
   std::signal(SIGINT, previous_handler);
@@ -216,12 +261,13 @@ void run(const RunArgs& a) {
     fmt::print(stderr, "\ninterrupted: writing outputs for the {} scans processed\n", results.size());
 
   poses = pipeline.trajectory();  // mapping-refined, loop closures move earlier scans too
-  write_trajectories(a.out, seq, poses);
+  write_trajectories(a.out, seq, results, poses);
   io::write_timing_csv(a.out + "/timing.csv", results);
   PointCloud map;
   map.xyz = pipeline.global_map();
   io::write_ply(a.out + "/map.ply", map);
   print_summary(results);
+  print_tracking(results);
   fmt::print("loop closures: {}\n", pipeline.loop_closures());
   if (seq.source) fmt::print("input: {}\n", seq.source->describe());
   fmt::print("wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), timing.csv, config.yaml{}\n", a.out,
@@ -234,6 +280,7 @@ void run(const RunArgs& a) {
     write_odometry_metrics(a.out + "/metrics.json", gt, poses, a.lengths);
   }
   if (seq.has_labels() && !results.empty()) label_stats.write(a.out + "/metrics.json");
+  merge_tracking_summary(a.out + "/metrics.json", results);
   if (g_stop) throw InputError("interrupted by the user (outputs written)");
 }
 

@@ -53,6 +53,8 @@ class ScanToScanOdometry {
                                         bool with_rejection = false) const;
   /// F_e / F_p of the current scan become the next scan's target.
   void set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes);
+  /// The previous scan's F_e / F_p, or null before the first scan.
+  [[nodiscard]] const FeatureMap* previous() const { return previous_.get(); }
 
  private:
   OdometryConfig config_;

@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "dloam/core/motion_model.hpp"
 #include "dloam/core/registration.hpp"
 #include "dloam/core/segmentation.hpp"
 
@@ -23,15 +24,6 @@ struct PreRegistrationConfig {
   double xi_5 = 0.05;       ///< plane: |e_3 . n_ground| below (normal is horizontal)
   int N_coarse = 5;         ///< RANSAC iterations of ICP
   double trim_ratio = 0.1;  ///< worst fraction discarded per iteration
-  /// m: the first scan pair has no motion prior; T_coarse starts from the best forward translation
-  /// in [-search_range, search_range] (0: start from identity, as the constant-velocity prior).
-  double search_range = 4.0;
-  /// Motion gate: a T_coarse that differs from the constant-velocity prediction by more than this
-  /// (rotation deg / translation m, per scan) is rejected and the prediction is used instead. At
-  /// 10 Hz a vehicle changes its motion per scan by centimetres and tenths of a degree; a larger
-  /// jump comes from a few objects registered wrongly (co-moving traffic, repeated posts).
-  double max_rotation_change_deg = 1.0;
-  double max_translation_change = 0.3;
   /// dloam's addition: T_coarse refined by a projective point-to-plane alignment of the current
   /// scan onto the previous range image (core/range_alignment.hpp). Eq. 13 needs the motion to a
   /// few centimetres; the objects of a 16-beam scan give it to a decimetre and a degree.
@@ -83,16 +75,17 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
 /// (ties: the smallest |dx|). `score` is called concurrently (the candidates in parallel).
 Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score);
-
-/// The motion gate: whether a motion `change` (per scan) away from a prior stays within
-/// config.max_rotation_change_deg / max_translation_change.
-bool within_motion_gate(const Pose& change, const PreRegistrationConfig& config);
+/// The same over turns as well: translation(dx) * `initial` * yaw(a), a in [-yaw_range, yaw_range]
+/// by `yaw_step` (rad); ties: the smallest |a|, then the smallest |dx|.
+Pose search_planar_motion(const Pose& initial, double range, double step, double yaw_range, double yaw_step,
+                          const std::function<double(const Pose&)>& score);
 
 /// T_coarse between the object sets of the current scan and of the previous one (`target`, built
 /// from the previous ObjectSet), starting from `predicted`. Invalid (and equal to `predicted`)
-/// with too few matches or, when `gated`, when it leaves the motion gate around `predicted` (a
-/// constant-velocity prediction; the first scan pair's start is a search result, no prior).
+/// with too few matches or when it leaves `gate` around `predicted` (the motion model's gate around
+/// its prediction: a jump away from it comes from a few objects registered wrongly, co-moving
+/// traffic or repeated posts). No gate: the first scan pair, whose start is a search result.
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
-                           const PreRegistrationConfig& config, bool gated = true);
+                           const PreRegistrationConfig& config, const MotionGate* gate);
 
 }  // namespace dloam

@@ -72,23 +72,31 @@ struct Loader {
     const YAML::Node n = node[key];
     if (!n || n.IsNull()) return;
     if (!n.IsMap()) fail(n, prefix + key, "expected a map of keys");
+    // A preset key (sensor.preset, motion.platform) first replaces the whole section by the
+    // preset's values; the other keys then override them.
     std::string preset;
-    if constexpr (std::is_same_v<S, SensorConfig>) {
-      if (n["preset"]) {
-        read(n["preset"], preset, prefix + key + ".preset");
-        try {
-          s = sensor_preset(preset);
-        } catch (const std::invalid_argument& e) {
-          fail(n["preset"], prefix + key + ".preset", e.what());
-        }
-        preset = s.preset;  // canonical spelling
+    const auto apply_preset = [&](const char* preset_key, auto make, std::string S::*name) {
+      if (!n[preset_key]) return;
+      read(n[preset_key], preset, prefix + key + "." + preset_key);
+      try {
+        s = make(preset);
+      } catch (const std::invalid_argument& e) {
+        fail(n[preset_key], prefix + key + "." + preset_key, e.what());
       }
-    }
+      preset = s.*name;  // canonical spelling
+    };
+    if constexpr (std::is_same_v<S, SensorConfig>)
+      apply_preset("preset", sensor_preset, &SensorConfig::preset);
+    if constexpr (std::is_same_v<S, MotionConfig>)
+      apply_preset("platform", motion_preset, &MotionConfig::platform);
     Loader sub{n, source, prefix + key + ".", {}};
     visit(s, sub);
     sub.reject_unknown_keys();
     if constexpr (std::is_same_v<S, SensorConfig>) {
       if (!preset.empty()) s.preset = preset;
+    }
+    if constexpr (std::is_same_v<S, MotionConfig>) {
+      if (!preset.empty()) s.platform = preset;
     }
   }
 

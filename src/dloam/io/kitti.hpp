@@ -76,6 +76,7 @@ struct Sequence {
   [[nodiscard]] bool has_poses() const { return !poses.empty(); }
   /// Ground-truth poses of the LiDAR (Tr applied when calib has Tr).
   [[nodiscard]] std::vector<Pose> lidar_poses() const;
+  /// Scan i, with its stamp from `times` when the sequence has them.
   [[nodiscard]] PointCloud read_scan(std::size_t i) const;
   [[nodiscard]] std::vector<Label> read_scan_labels(std::size_t i, std::size_t n_points) const;
 };

@@ -121,8 +121,9 @@ std::vector<Pose> Sequence::lidar_poses() const {
 PointCloud Sequence::read_scan(std::size_t i) const {
   if (i >= scan_files.size())
     fail(dir, "scan index " + std::to_string(i) + " out of range (" + std::to_string(size()) + " scans)");
-  if (source) return source->read(i);
-  return read_scan_file(scan_files[i]);
+  PointCloud cloud = source ? source->read(i) : read_scan_file(scan_files[i]);
+  if (i < times.size()) cloud.stamp = times[i];
+  return cloud;
 }
 
 std::vector<Label> Sequence::read_scan_labels(std::size_t i, std::size_t n_points) const {

@@ -9,6 +9,7 @@
 #include "dloam/core/dynamic_detector.hpp"
 #include "dloam/core/features.hpp"
 #include "dloam/core/mapping.hpp"
+#include "dloam/core/motion_model.hpp"
 #include "dloam/core/odometry.hpp"
 #include "dloam/core/preregistration.hpp"
 #include "dloam/core/segmentation.hpp"
@@ -21,6 +22,7 @@ struct PipelineConfig {
   SensorConfig sensor;
   SegmentationConfig segmentation;
   PreRegistrationConfig preregistration;
+  MotionConfig motion;
   DeskewConfig deskew;
   DetectionConfig detection;
   FeatureConfig features;
