@@ -73,8 +73,8 @@ std::vector<std::string> describe_estimate(const SensorModelEstimate& est) {
   lines.push_back((m.resembles ? "resembles preset " : "nearest preset ") + m.preset +
                   format(" (%.0f beams; mean elevation distance %.3f deg)", m.preset_beams, m.distance_deg) +
                   (m.resembles ? "" : ": no preset resembles it closely"));
-  lines.push_back("from " + std::to_string(est.scans) + " scans (" + std::to_string(est.points_used) +
-                  " of their " + std::to_string(est.points) + " points used)");
+  lines.push_back("from " + std::to_string(est.scans) + (est.scans == 1 ? " scan (" : " scans (") +
+                  std::to_string(est.points_used) + " of " + std::to_string(est.points) + " points used)");
   for (const auto& note : est.notes) lines.push_back("note: " + note);
   return lines;
 }
