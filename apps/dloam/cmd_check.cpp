@@ -1,6 +1,7 @@
 // `dloam check SEQUENCE_DIR`: validates every file of a sequence (scans, labels, poses, calib,
 // times), prints each problem with its file name and a summary (points per scan, ground truth
-// present, moving points, the sensor preset the data matches); exits non-zero on any problem.
+// present, moving points, the sensor model estimated from the scans and the preset nearest to it);
+// exits non-zero on any problem. --write-sensor writes the estimated model as a YAML sensor section.
 #include <fmt/core.h>
 
 #include <cstdio>
@@ -9,13 +10,15 @@
 
 #include "commands.hpp"
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/atomic_file.hpp"
+#include "dloam/io/config_yaml.hpp"
 #include "dloam/io/sequence_check.hpp"
 
 namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, topic, preset;
+  std::string dir, topic, preset, config_path, write_sensor;
 };
 
 std::string yes_no(bool present) { return present ? "yes" : "no"; }
@@ -54,26 +57,42 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
   }
   fmt::print("\n");
   if (r.sensor) {
-    const auto& s = *r.sensor;
-    fmt::print(
-        "sensor        elevation {:.1f} .. {:.1f} deg, {} beams resolved -> looks like {} "
-        "(field-of-view overlap {:.2f})\n",
-        s.lowest_deg, s.highest_deg, s.resolved_beams, s.preset, s.fov_overlap);
-    if (!preset.empty() && sensor_preset(preset).preset != s.preset)
-      fmt::print("warning       --preset {} given, but the data looks like {}\n", preset, s.preset);
+    const auto lines = io::describe_estimate(*r.sensor);
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      fmt::print("{}{}\n", i == 0 ? "sensor        " : "              ", lines[i]);
+    if (!preset.empty()) {
+      const PresetMatch m = match_preset(r.sensor->sensor, preset);
+      if (!m.resembles)
+        fmt::print(
+            "warning       --preset {} given, but the data's beams differ from it (mean distance {:.3f} deg, "
+            "{} vs {} beams)\n",
+            m.preset, m.distance_deg, r.sensor->sensor.N_scan, m.preset_beams);
+    }
+  } else if (!r.sensor_error.empty()) {
+    fmt::print("sensor        not estimated: {}\n", r.sensor_error);
   }
 }
 
 void run_check(const CheckArgs& a) {
   if (!a.preset.empty()) (void)sensor_preset(a.preset);  // reject an unknown name before reading
+  SensorEstimationConfig estimation;
+  if (!a.config_path.empty())  // its vertical-angle correction applies to the points estimated from
+    estimation.vertical_angle_correction_deg =
+        io::config_from_allowing_auto("", a.config_path).sensor.vertical_angle_correction_deg;
   const auto report = io::check_sequence(
       a.dir,
       [](const std::string& problem) {
         fmt::print(stderr, "problem: {}\n", problem);
         std::fflush(stderr);
       },
-      a.topic);
+      a.topic, estimation);
   print_summary(report, a.preset);
+  if (!a.write_sensor.empty()) {
+    if (!report.sensor) throw InputError(a.dir + ": no sensor model to write: " + report.sensor_error);
+    const std::string yaml = io::estimated_sensor_yaml(*report.sensor, a.dir);
+    io::write_atomic(a.write_sensor, [&](std::ostream& o) { o << yaml; });
+    fmt::print("wrote the estimated sensor section to {}\n", a.write_sensor);
+  }
   if (report.problems.empty()) {
     fmt::print("OK: no problems found\n");
     return;
@@ -97,13 +116,24 @@ void register_check(CLI::App& app) {
   cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
   cmd->add_option(
       "--preset", args->preset,
-      "sensor you expect (HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128): warns if the data looks different");
+      "sensor you expect (" + sensor_preset_list() + "): warns if the data's beams differ from it");
+  cmd->add_option("--config,-c", args->config_path,
+                  "YAML config whose sensor.vertical_angle_correction_deg is applied before estimating "
+                  "(e.g. 0.22 for KITTI); other keys are not used")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--write-sensor", args->write_sensor,
+                  "write the estimated sensor model as a YAML sensor section (for --config); fails when "
+                  "the scans do not determine one");
   cmd->footer(
       "Reads every scan fully and every label, pose, time and calibration file; reports each problem\n"
       "with its file name and keeps going. Exit status 0 when everything is readable and consistent.\n"
+      "The sensor model (beams, origin heights, columns, range limits, scan rate) is estimated from\n"
+      "12 scans spread over the sequence and compared with the built-in presets.\n"
       "Examples:\n"
       "  dloam check ../shared/data/kitti-raw-0005\n"
       "  dloam check recordings/campus_pcd --preset VLP-16\n"
+      "  dloam check recordings/wide_pcd --write-sensor wide.yaml && dloam run recordings/wide_pcd --config "
+      "wide.yaml --out out\n"
       "  dloam check drive.bag --topic /velodyne_points");
   cmd->callback([args] { run_check(*args); });
 }

@@ -21,6 +21,7 @@
 #endif
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/ply.hpp"
+#include "dloam/io/sensor_estimate.hpp"
 #include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
 #include "progress.hpp"
@@ -39,9 +40,11 @@ struct RunArgs {
   bool drop_moving = false;
 };
 
-PipelineConfig make_config(const RunArgs& a) {
-  // The preset is the starting point; the file's keys override it (as `dloam config dump`).
-  PipelineConfig cfg = io::config_from(a.preset, a.config_path);
+/// The preset is the starting point; the file's keys override it (as `dloam config dump`). A
+/// sensor preset auto stays unresolved until `estimated` is given.
+PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nullptr) {
+  PipelineConfig cfg = estimated ? io::config_from(a.preset, a.config_path, *estimated)
+                                 : io::config_from_allowing_auto(a.preset, a.config_path);
   if (!a.detector.empty()) cfg.detection.detector = a.detector;
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;
@@ -207,9 +210,21 @@ std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& cfg) {
 #endif
 }
 
+/// Sensor preset auto: the model estimated from 10 scans spread over the first 100 of the run
+/// (the file's explicit sensor keys still override it).
+PipelineConfig estimate_sensor(const RunArgs& a, const PipelineConfig& cfg, const io::Sequence& seq,
+                               std::size_t first, std::size_t last) {
+  const auto indices = io::spread_scan_indices(first, std::min(last, first + 100), 10);
+  SensorEstimationConfig estimation;
+  estimation.vertical_angle_correction_deg = cfg.sensor.vertical_angle_correction_deg;
+  const SensorModelEstimate est = io::estimate_sequence_sensor(seq, indices, estimation);
+  fmt::print("sensor auto: estimated from scans {} .. {}:\n", indices.front(), indices.back());
+  for (const auto& line : io::describe_estimate(est)) fmt::print("  {}\n", line);
+  return make_config(a, &est.sensor);
+}
+
 void run(const RunArgs& a) {
   PipelineConfig cfg = make_config(a);
-  const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
   const io::Sequence seq = io::open_sequence(a.sequence, a.topic);
   const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
   if (first >= seq.size())
@@ -219,6 +234,8 @@ void run(const RunArgs& a) {
     throw InputError(a.sequence + ": --drop-labelled-moving needs ground-truth labels (labels/*.label)");
   const std::size_t last =
       a.count < 0 ? seq.size() : std::min(seq.size(), first + static_cast<std::size_t>(a.count));
+  if (io::sensor_needs_estimate(cfg)) cfg = estimate_sensor(a, cfg, seq, first, last);
+  const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
   fs::create_directories(a.out);
   io::write_atomic(a.out + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(cfg); });
   const bool labels_on = cfg.detection.detector != "none";
@@ -299,7 +316,8 @@ void register_run(CLI::App& app) {
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
-      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16");
+      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16\n"
+      "  dloam run my_pcds --out out/mine --preset auto      # sensor model estimated from the first scans");
   cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder, or a rosbag (.bag)")
       ->required()
       ->check(CLI::ExistingPath);
@@ -307,7 +325,9 @@ void register_run(CLI::App& app) {
   cmd->add_option("--out,-o", args->out, "output folder")->required();
   cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
+  cmd->add_option("--preset", args->preset,
+                  "sensor preset: " + sensor_preset_list() +
+                      "; or auto: estimated from the first scans (see `dloam check --write-sensor`)");
   cmd->add_option("--detector", args->detector, "dynamic-object detector: none, geometric or cnn")
       ->check(CLI::IsMember({"none", "geometric", "cnn"}));
   cmd->add_flag(

@@ -207,8 +207,7 @@ void register_simulate(CLI::App& app) {
   cmd->add_option("--seed", args->params.seed, "Random seed; the same seed gives the same files")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "Output sequence folder")->required();
-  cmd->add_option("--preset", args->preset, "Sensor: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128")
-      ->capture_default_str();
+  cmd->add_option("--preset", args->preset, "Sensor: " + sensor_preset_list())->capture_default_str();
   cmd->add_option("-c,--config", args->config,
                   "YAML config whose sensor section is simulated over --preset: your own beam table, "
                   "beam origin heights, range limits (e.g. config/kitti-raw.yaml)")

@@ -27,7 +27,9 @@ using Choices = std::vector<std::string>;
 
 template <class V>
 void visit(SensorConfig& c, V& v) {
-  v("preset", c.preset, "built-in model: HDL-64E | HDL-32E | VLP-16 | OS1-64 | OS1-128", Choices{});
+  v("preset", c.preset,
+    "built-in model (dloam config presets), custom (these keys alone) or auto (estimated from the data)",
+    Choices{});
   v("N_scan", c.N_scan, "number of beams = range-image rows (eq. 4)", within(2, 512));
   v("Horizon_SCAN", c.Horizon_SCAN, "range-image columns = 2 pi / R_horiz (eq. 5)", within(16, 16384));
   v("beam_elevations_deg", c.beam_elevations_deg,

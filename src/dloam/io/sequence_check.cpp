@@ -35,33 +35,51 @@ struct Checker {
   }
 };
 
-/// Point counts, time channels and the sensor estimate over the readable scans.
+constexpr std::size_t kEstimateScans = 12;
+
+/// Point counts, time channels, and the scans kept for the sensor estimate (spread evenly).
 struct ScanStats {
-  ElevationHistogram histogram;
+  std::vector<std::size_t> keep;  ///< scan indices kept for the estimate
+  std::vector<std::vector<Vec3>> kept;
   std::size_t total = 0;
-  void add(const PointCloud& cloud, SequenceReport& r) {
+  explicit ScanStats(std::size_t scans) : keep(spread_scan_indices(0, scans, kEstimateScans)) {}
+  void add(std::size_t index, const PointCloud& cloud, SequenceReport& r) {
     r.min_points = r.scans_ok == 0 ? cloud.size() : std::min(r.min_points, cloud.size());
     r.max_points = std::max(r.max_points, cloud.size());
     total += cloud.size();
     ++r.scans_ok;
     if (cloud.has_time()) ++r.points_with_time;
-    histogram.add(cloud);
+    if (std::binary_search(keep.begin(), keep.end(), index)) kept.push_back(cloud.xyz);
   }
   void finish(SequenceReport& r) const {
     if (r.scans_ok > 0) r.mean_points = static_cast<double>(total) / static_cast<double>(r.scans_ok);
-    if (histogram.total > 0) r.sensor = estimate_sensor(histogram);
+  }
+  /// After the times are known.
+  void estimate(SequenceReport& r, const std::vector<double>& times,
+                const SensorEstimationConfig& config) const {
+    if (kept.empty()) {
+      r.sensor_error = "no readable scan";
+      return;
+    }
+    try {
+      r.sensor = estimate_sensor_model(kept, times, config);
+    } catch (const InputError& e) {
+      r.sensor_error = e.what();
+    }
   }
 };
 
 /// A sequence stored in one file (rosbag): every scan read through its source, stamps as times.
-void check_file_sequence(const std::string& path, const std::string& topic, SequenceReport& r, Checker& c) {
+void check_file_sequence(const std::string& path, const std::string& topic, SequenceReport& r, Checker& c,
+                         const SensorEstimationConfig& estimation) {
   Sequence seq;
   if (!c.attempt([&] { seq = open_sequence(path, topic); })) return;
   r.scans = seq.size();
   r.scan_format = "PointCloud2";
-  ScanStats stats;
-  for (std::size_t i = 0; i < seq.size(); ++i) c.attempt([&] { stats.add(seq.read_scan(i), r); });
+  ScanStats stats(seq.size());
+  for (std::size_t i = 0; i < seq.size(); ++i) c.attempt([&] { stats.add(i, seq.read_scan(i), r); });
   stats.finish(r);
+  stats.estimate(r, seq.times, estimation);
   if (seq.source) r.source = seq.source->describe();
   r.has_times = !seq.times.empty();
   r.time_count = seq.times.size();
@@ -71,14 +89,14 @@ void check_file_sequence(const std::string& path, const std::string& topic, Sequ
   }
 }
 
-void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Checker& c) {
+void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Checker& c, ScanStats& stats) {
   std::map<std::string, std::size_t> points_of;  // scan stem -> points, readable scans only
-  ScanStats stats;
-  for (const auto& path : files.scan_files) {
+  for (std::size_t i = 0; i < files.scan_files.size(); ++i) {
+    const std::string& path = files.scan_files[i];
     c.attempt([&] {
       const PointCloud cloud = read_scan_file(path);
       points_of[stem(path)] = cloud.size();
-      stats.add(cloud, r);
+      stats.add(i, cloud, r);
     });
   }
   stats.finish(r);
@@ -114,7 +132,8 @@ void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Check
     if (!labelled.count(stem(path))) c.problem(path + ": has no label file in labels/");
 }
 
-void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c) {
+void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c,
+                      std::vector<double>& times_out) {
   const std::size_t n = files.scan_files.size();
   std::optional<Calib> calib;
   r.has_calib = !files.calib_file.empty();
@@ -142,6 +161,7 @@ void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c)
   if (r.has_times) {
     c.attempt([&] {
       const auto times = read_times(files.times_file);
+      times_out = times;
       r.time_count = times.size();
       if (!times.empty()) {
         r.first_time = times.front();
@@ -157,21 +177,24 @@ void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c)
 
 SequenceReport check_sequence(const std::string& dir,
                               const std::function<void(const std::string&)>& on_problem,
-                              const std::string& topic) {
+                              const std::string& topic, const SensorEstimationConfig& estimation) {
   SequenceReport report;
   report.dir = dir;
   Checker checker{report, on_problem};
   std::error_code ec;
   if (fs::is_regular_file(dir, ec) || !topic.empty()) {
-    check_file_sequence(dir, topic, report, checker);
+    check_file_sequence(dir, topic, report, checker, estimation);
     return report;
   }
   SequenceFiles files;
   if (!checker.attempt([&] { files = list_sequence_files(dir); })) return report;
   report.scans = files.scan_files.size();
   report.scan_format = fs::path(files.scan_files.front()).extension() == ".pcd" ? "PCD" : "KITTI .bin";
-  check_scans_and_labels(files, report, checker);
-  check_text_files(files, report, checker);
+  ScanStats stats(files.scan_files.size());
+  check_scans_and_labels(files, report, checker, stats);
+  std::vector<double> times;
+  check_text_files(files, report, checker, times);
+  stats.estimate(report, times, estimation);
   return report;
 }
 

@@ -31,14 +31,16 @@ struct SequenceReport {
   bool has_times = false;
   std::size_t time_count = 0;
   double first_time = 0.0, last_time = 0.0;
-  std::optional<SensorEstimate> sensor;
-  std::vector<std::string> problems;  ///< one InputError message per problem, naming the file
+  std::optional<SensorModelEstimate> sensor;  ///< estimated from up to 12 scans spread over the sequence
+  std::string sensor_error;                   ///< why there is no estimate (not a problem of the files)
+  std::vector<std::string> problems;          ///< one InputError message per problem, naming the file
 };
 
 /// Checks everything; `on_problem` (optional) sees each problem as it is found. Never throws
-/// for bad data: a folder that cannot be listed is itself reported as a problem.
+/// for bad data: a folder that cannot be listed is itself reported as a problem. The sensor model
+/// is estimated with `estimation` (its vertical-angle correction applied to the points).
 SequenceReport check_sequence(const std::string& dir,
                               const std::function<void(const std::string&)>& on_problem = {},
-                              const std::string& topic = {});
+                              const std::string& topic = {}, const SensorEstimationConfig& estimation = {});
 
 }  // namespace dloam::io
