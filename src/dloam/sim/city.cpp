@@ -68,7 +68,13 @@ void add_lots(World& w, Rng& rng, const CityLayout& city, const Side& side) {
   }
 }
 
-void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) {
+bool kept_clear(const std::vector<RaisedArea>& keep_clear, const Vec2& at) {
+  return std::any_of(keep_clear.begin(), keep_clear.end(),
+                     [&](const RaisedArea& r) { return r.contains(at.x(), at.y()); });
+}
+
+void add_street_furniture(World& w, Rng& rng, const Side& curb, double density,
+                          const std::vector<RaisedArea>& keep_clear) {
   const Vec2 dir = (curb.b - curb.a).normalized();
   const Vec2 out(-std::sin(curb.yaw), std::cos(curb.yaw));
   const double length = (curb.b - curb.a).norm();
@@ -76,6 +82,11 @@ void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) 
     if (!chance(rng, std::min(0.95, 0.6 * density))) continue;
     const Vec2 at = curb.a + x * dir - 0.9 * out;
     const double h = uniform(rng, 5.0, 12.0);
+    if (kept_clear(keep_clear, at)) {
+      Mesh unused;  // the same draws, so that the rest of the street does not change
+      add_tree(unused, rng, w.ground, at, h);
+      continue;
+    }
     add_tree(w.static_mesh, rng, w.ground, at, h);
     w.objects.push_back({"tree", 0, Vec3(at.x(), at.y(), 0.0), 0.0, {h * 0.4, h * 0.4, h}});
   }
@@ -84,6 +95,7 @@ void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) 
     const Vec2 at = curb.a + x * dir - 0.45 * out;
     const bool lamp = chance(rng, 0.7);
     const double h = lamp ? uniform(rng, 6.0, 8.0) : uniform(rng, 2.5, 3.5);
+    if (kept_clear(keep_clear, at)) continue;
     add_pole(w.static_mesh, w.ground, at, h, lamp, std::atan2(out.y(), out.x()));
     w.objects.push_back({lamp ? "street_lamp" : "pole", 0, Vec3(at.x(), at.y(), 0.0), 0.0, {0.2, 0.2, h}});
   }
@@ -91,7 +103,7 @@ void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) 
 
 // Parked cars along one curb of a street segment: `a`-`b` on the parking line.
 void add_parked_cars(World& w, Rng& rng, const Vec2& a, const Vec2& b, double density,
-                     const std::vector<RaisedArea>& no_parking) {
+                     const std::vector<RaisedArea>& keep_clear) {
   const Vec2 dir = (b - a).normalized();
   const double length = (b - a).norm(), heading = std::atan2(dir.y(), dir.x());
   for (double x = uniform(rng, 0.0, 4.0); x < length - 6.5;) {
@@ -107,8 +119,7 @@ void add_parked_cars(World& w, Rng& rng, const Vec2& a, const Vec2& b, double de
       const Vec2 at = a + (x + 0.5 * slot) * dir;
       const double yaw = heading + (chance(rng, 0.25) ? M_PI : 0.0) + uniform(rng, -0.03, 0.03);
       // A reserved slot stays empty; the draws above keep the rest of the street as it would be.
-      if (std::any_of(no_parking.begin(), no_parking.end(),
-                      [&](const RaisedArea& r) { return r.contains(at.x(), at.y()); })) {
+      if (kept_clear(keep_clear, at)) {
         x += slot;
         continue;
       }
@@ -136,7 +147,7 @@ void build_city(World& w, const CityLayout& city, Rng& rng, double density) {
   for (const RaisedArea& r : w.ground.raised) {
     add_block_ground(w, r, city.sidewalk);
     for (const Side& s : sides_of(r, city.sidewalk)) add_lots(w, rng, city, s);
-    for (const Side& s : sides_of(r, 0.0)) add_street_furniture(w, rng, s, density);
+    for (const Side& s : sides_of(r, 0.0)) add_street_furniture(w, rng, s, density, city.keep_clear);
   }
   // Parked cars along both curbs of every street segment between intersections.
   const double skip = h + 5.0;
@@ -145,14 +156,14 @@ void build_city(World& w, const CityLayout& city, Rng& rng, double density) {
       for (double side : {-1.0, 1.0}) {
         const double y = city.street_y(j) + side * kParkingOffset;
         add_parked_cars(w, rng, {city.street_x(i) + skip, y}, {city.street_x(i + 1) - skip, y}, density,
-                        city.no_parking);
+                        city.keep_clear);
       }
   for (int i = 0; i <= city.nx; ++i)
     for (int j = 0; j < city.ny; ++j)
       for (double side : {-1.0, 1.0}) {
         const double x = city.street_x(i) + side * kParkingOffset;
         add_parked_cars(w, rng, {x, city.street_y(j) + skip}, {x, city.street_y(j + 1) - skip}, density,
-                        city.no_parking);
+                        city.keep_clear);
       }
 }
 

@@ -18,8 +18,9 @@ struct CityLayout {
   double building_height_max = 28.0;
   double x0 = 0.0;                            ///< x of street line i = 0
   double margin_x0 = 40.0, margin_x1 = 40.0;  ///< road beyond the first / last street line along x
-  /// Rectangles (height unused) where no car is parked, e.g. the slot of a scripted one.
-  std::vector<RaisedArea> no_parking;
+  /// Rectangles (height unused) where no car is parked and no tree or pole stands, e.g. the slot
+  /// of a scripted car; the rest of the city is the same with or without them.
+  std::vector<RaisedArea> keep_clear;
 
   [[nodiscard]] double pitch() const { return block + street; }
   [[nodiscard]] double street_x(int i) const { return x0 + i * pitch(); }
@@ -76,9 +77,10 @@ bool overlaps(const Actor& a, const Actor& other, const EgoRoute& route);
 ///   - a pedestrian walking in on the left sidewalk and standing from half the drive on;
 ///   - a car parked at the left curb, 18 m ahead of where the ego is at `t_leave`, that pulls out
 ///     into the left lane at `t_leave` and drives off against the ego's direction.
-/// Adds the car's parking slot to `no_parking`.
+/// Adds the car's parking slot and the curb beside the pedestrians and 25 m before them to
+/// `keep_clear`, so that parked cars, trees and poles do not hide them from the approaching ego.
 std::vector<Actor> cleaning_actors(const Ego& ego, const CityLayout& city, int j, double duration,
-                                   double t_leave, Rng& rng, std::vector<RaisedArea>* no_parking);
+                                   double t_leave, Rng& rng, std::vector<RaisedArea>* keep_clear);
 
 /// Sets the actor's existence window [t_begin, t_end] so that it never comes closer than
 /// `clearance` (times route.clearance_scale) to the ego (it would run into it) and appears/vanishes only

@@ -27,19 +27,23 @@ Actor scripted(Rng& rng, ActorKind kind, const std::string& role, Path path, Spe
 }  // namespace
 
 std::vector<Actor> cleaning_actors(const Ego& ego, const CityLayout& city, int j, double duration,
-                                   double t_leave, Rng& rng, std::vector<RaisedArea>* no_parking) {
+                                   double t_leave, Rng& rng, std::vector<RaisedArea>* keep_clear) {
   const double yc = city.street_y(j), half = 0.5 * duration;
   const double x_mid = ego.position(half).x();
   const double sidewalk = 0.5 * city.street + 2.3;
   std::vector<Actor> out;
   {  // Stands on the right sidewalk until half the drive, then walks off along it.
     const Vec2 at(x_mid + 6.0, yc - sidewalk);
+    keep_clear->push_back(
+        {at.x() - 25.0, yc - 0.5 * city.street - 1.5, at.x() + 8.0, yc - kParkingOffset + 1.0, 0.0});
     out.push_back(scripted(rng, ActorKind::Pedestrian, "stand_then_walk",
                            Path::from_waypoints({at, at + Vec2(2000.0, 0.0)}, 0.0, false),
                            SpeedProfile({{half, 0.0}, {half + kWalk / kWalkAccel, kWalk}}), 0.0));
   }
   {  // Walks in on the left sidewalk against the ego's direction and stands from half the drive.
     const Vec2 at(x_mid - 4.0, yc + sidewalk);
+    keep_clear->push_back(
+        {at.x() - 25.0, yc + kParkingOffset - 1.0, at.x() + 8.0, yc + 0.5 * city.street + 1.5, 0.0});
     SpeedProfile profile({{half - kWalk / kWalkAccel, kWalk}, {half, 0.0}});
     const double s_stand = 2000.0;
     const double s0 = s_stand - profile.distance(half);
@@ -54,7 +58,7 @@ std::vector<Actor> cleaning_actors(const Ego& ego, const CityLayout& city, int j
     out.push_back(scripted(rng, ActorKind::Car, "leaving_car", path,
                            SpeedProfile({{t_leave, 0.0}, {t_leave + kDriveOff / kCarAccel, kDriveOff}}),
                            0.0));
-    no_parking->push_back({x - 7.0, yp - 1.0, x + 7.0, yp + 1.0, 0.0});
+    keep_clear->push_back({x - 7.0, yp - 1.0, x + 7.0, yp + 1.0, 0.0});
   }
   return out;
 }

@@ -189,7 +189,7 @@ World make_city_world(const ScenarioParams& params, bool loop) {
   if (params.cleaning_actors) {
     Rng scripted_rng(stream_seed(params.seed, 6, 0));
     const double t_leave = params.leave_after_frames() * w.frame_period;
-    scripted = cleaning_actors(w.ego, city, 2, duration, t_leave, scripted_rng, &city.no_parking);
+    scripted = cleaning_actors(w.ego, city, 2, duration, t_leave, scripted_rng, &city.keep_clear);
   }
   build_city(w, city, static_rng, params.density);
   EgoRoute route = sample_route(w.ego, duration, ego_lanes, params.max_range);
