@@ -139,9 +139,17 @@ TEST(SimPlatforms, HandheldTurnsLooksTiltsAndBobsAsAPersonWalking) {
   EXPECT_LT(tilt_pitch, 20.0 * kDeg);
   EXPECT_GT(tilt_roll, 8.0 * kDeg);
   EXPECT_LT(tilt_roll, 20.0 * kDeg);
-  // Pitch and bob at the step frequency (about 2 Hz), a few degrees and a few centimetres.
-  EXPECT_NEAR(dominant_frequency(gait_pitch, 0.5, 6.0), 1.95, 0.2);
-  EXPECT_NEAR(dominant_frequency(bob, 0.5, 6.0), 1.95, 0.2);
+  // Pitch and bob at the step frequency (about 2 Hz), a few degrees and a few centimetres; roll
+  // at the stride frequency (half of it).
+  const double f_pitch = dominant_frequency(gait_pitch, 0.5, 6.0), f_bob = dominant_frequency(bob, 0.5, 6.0);
+  const double f_roll = dominant_frequency(high_pass(tr.roll, 2.0), 0.5, 6.0);
+  RecordProperty("step_hz_pitch_bob_roll",
+                 std::to_string(f_pitch) + " " + std::to_string(f_bob) + " " + std::to_string(f_roll));
+  RecordProperty("gait_pitch_deg_bob_m",
+                 std::to_string(max_abs(gait_pitch) / kDeg) + " " + std::to_string(max_abs(bob)));
+  EXPECT_NEAR(f_pitch, 1.95, 0.2);
+  EXPECT_NEAR(f_bob, 1.95, 0.2);
+  EXPECT_NEAR(f_roll, 0.5 * f_pitch, 0.1);
   EXPECT_GT(max_abs(gait_pitch), 1.0 * kDeg);
   EXPECT_LT(max_abs(gait_pitch), 4.0 * kDeg);
   EXPECT_GT(max_abs(bob), 0.01);
@@ -193,8 +201,12 @@ TEST(SimPlatforms, LeggedRobotTrotsAtThreeToFourHzAndTurnsOnTheSpotAtNinetyDegPe
   EXPECT_GT(yaw_rate, 85.0 * kDeg);
   EXPECT_LT(yaw_rate, 90.5 * kDeg);
   const std::vector<double> pitch = high_pass(tr.pitch, 0.6), roll = high_pass(tr.roll, 0.6);
-  EXPECT_NEAR(dominant_frequency(pitch, 0.5, 8.0), 3.5, 0.35);
-  EXPECT_NEAR(dominant_frequency(roll, 0.5, 8.0), 3.5, 0.35);
+  const double f_pitch = dominant_frequency(pitch, 0.5, 8.0), f_roll = dominant_frequency(roll, 0.5, 8.0);
+  RecordProperty("trot_hz_pitch_roll", std::to_string(f_pitch) + " " + std::to_string(f_roll));
+  RecordProperty("trot_pitch_roll_deg",
+                 std::to_string(max_abs(pitch) / kDeg) + " " + std::to_string(max_abs(roll) / kDeg));
+  EXPECT_NEAR(f_pitch, 3.5, 0.35);
+  EXPECT_NEAR(f_roll, 3.5, 0.35);
   EXPECT_GT(max_abs(roll), 0.5 * kDeg);
   EXPECT_LT(max_abs(roll), 2.0 * kDeg);
   EXPECT_LT(accel, 700.0 * kDeg);
