@@ -6,6 +6,7 @@
 namespace dloam::app {
 
 void register_simulate(CLI::App& app);
+void register_thin(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_check(CLI::App& app);
 void register_config(CLI::App& app);
