@@ -30,7 +30,7 @@ struct McapWriterOptions {
 class McapWriter {
  public:
   McapWriter(const std::string& path, McapWriterOptions options = {});
-  ~McapWriter();  ///< closes when close() was not called (errors are swallowed then)
+  ~McapWriter();  ///< without close(): the unfinished `.part` file is deleted
   McapWriter(const McapWriter&) = delete;
   McapWriter& operator=(const McapWriter&) = delete;
 
