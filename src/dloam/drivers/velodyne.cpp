@@ -171,9 +171,10 @@ VelodyneIdentification identify_velodyne(const std::vector<Packet>& packets) {
   const double ratio = channel_structure(data);
   const std::string product = hex(h.product, 2);
   std::string timing = step > 0 ? "TOH step " + fmt(step, 1) + " us" : "no TOH step (one packet)";
-  std::string structure = ratio < 0 ? "too few returns to compare channels c and c+16"
-                                    : "channels c and c+16 " + std::string(ratio < 0.05 ? "alike" : "unlike") +
-                                          " (median range difference " + fmt(ratio * 100.0, 1) + " %)";
+  std::string structure = ratio < 0
+                              ? "too few returns to compare channels c and c+16"
+                              : "channels c and c+16 " + std::string(ratio < 0.05 ? "alike" : "unlike") +
+                                    " (median range difference " + fmt(ratio * 100.0, 1) + " %)";
   std::vector<VelodyneModel> by_timing;
   if (step > 0)
     for (VelodyneModel m : {VelodyneModel::kVLP16, VelodyneModel::kVLP32C, VelodyneModel::kHDL32E})
@@ -388,7 +389,7 @@ void VelodyneDecoder::decode_slot(const std::uint8_t* block_data, int block, int
   emit(raw, s[2], block, bank, channel, group, azimuth, step, group_time, return_id, last, sink);
 }
 
-void VelodyneDecoder::decode(const Packet& packet, double toh_time, Sink& sink) {
+void VelodyneDecoder::decode(const Packet& packet, double hour_start, Sink& sink) {
   if (packet.data == nullptr || packet.size != kVelodyneDataPacketSize)
     fail(packet,
          "not a Velodyne data packet: " + std::to_string(packet.size) + " bytes (a data packet has 1206)");
@@ -428,7 +429,8 @@ void VelodyneDecoder::decode(const Packet& packet, double toh_time, Sink& sink) 
     const std::uint16_t a = block_azimuth(packet, g * per_group);
     // 36000 occurs at the wrap (VLP-16): the direction of 0, still the old turn.
     if (a > kTurn)
-      fail(packet, "block " + std::to_string(g * per_group) + " azimuth " + std::to_string(a) + " is not in 0..36000");
+      fail(packet, "block " + std::to_string(g * per_group) + " azimuth " + std::to_string(a) +
+                       " is not in 0..36000");
     az[static_cast<std::size_t>(g)] = a;
   }
   std::array<float, kBlocks> step{};
@@ -439,7 +441,7 @@ void VelodyneDecoder::decode(const Packet& packet, double toh_time, Sink& sink) 
       groups >= 2 ? step[static_cast<std::size_t>(groups - 2)] : last_step_;
   last_step_ = step[static_cast<std::size_t>(groups - 1)];
 
-  const double t0 = toh_time + info_.toh_to_first_us * 1e-6;
+  const double t0 = hour_start + h.toh_us * 1e-6 + info_.toh_to_first_us * 1e-6;
   for (int g = 0; g < groups; ++g) {
     const auto gi = static_cast<std::size_t>(g);
     const double group_time = t0 + g * info_.group_period_us * 1e-6;
@@ -487,13 +489,13 @@ void VelodyneDecoder::decode(const Packet& packet, double toh_time, Sink& sink) 
   }
 }
 
-std::vector<VelodyneReturn> VelodyneDecoder::decode(const Packet& packet, double toh_time) {
+std::vector<VelodyneReturn> VelodyneDecoder::decode(const Packet& packet, double hour_start) {
   struct Collect : Sink {
     std::vector<VelodyneReturn> out;
     void group(int, std::uint16_t, double) override {}
     void point(const VelodyneReturn& r) override { out.push_back(r); }
   } collect;
-  decode(packet, toh_time, collect);
+  decode(packet, hour_start, collect);
   return std::move(collect.out);
 }
 
@@ -563,7 +565,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     ++data_packets_;
     index_ = index;
     done_ = &done;
-    decoder_.decode(packet, toh_time, *this);
+    decoder_.decode(packet, base_, *this);
     done_ = nullptr;
     packet_gap_ = false;
   }
@@ -642,11 +644,14 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     return std::clamp(static_cast<int>(per_turn / 64.0) * 64, 64, 16384);
   }
 
-  /// True when the azimuth interval (from, to) (0.01 deg, forward) overlaps the field of view
-  /// by more than a degree at each end.
+  /// True when the azimuth interval (from, to) (0.01 deg, forward) overlaps the field of view by
+  /// more than one and a half packets' rotation at each end (a sensor sending part of the turn
+  /// starts and stops at packet boundaries).
   [[nodiscard]] bool gap_in_fov(int from, int to) const {
     const int len = (to - from + kTurn) % kTurn;
-    for (int a = 100; a < len - 100; a += 50)
+    const double per_packet = intervals_ > 0 ? sum_az_ / static_cast<double>(intervals_) : 0.0;
+    const int margin = std::max(100, static_cast<int>(1.5 * per_packet));
+    for (int a = margin; a < len - margin; a += 50)
       if (decoder_.in_fov((from + a) % kTurn)) return true;
     return false;
   }
@@ -667,6 +672,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     } else if (lost) {
       lost_ = true;
     }
+    if (!have_group_) started_at_cut_ = starts_rotation(azimuth);
     if (fresh_ || !have_group_) {
       current_.start = time;
       current_.end = time;
@@ -679,6 +685,20 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     have_group_ = true;
     prev_phased_ = phased;
     prev_group_az_ = azimuth;
+  }
+
+  /// Whether a recording whose first firing group has this azimuth starts with a whole
+  /// rotation: within 1 deg after the cut, or, with a limited field of view, at most the largest
+  /// azimuth correction + 2 deg after the window's start.
+  [[nodiscard]] bool starts_rotation(int azimuth) const {
+    const bool full = velodyne_.fov_min_deg <= 0.0 && velodyne_.fov_max_deg >= 360.0;
+    if (full) return (azimuth - cut_ + kTurn) % kTurn <= 100;
+    double max_rot = 0.0;
+    for (const VelodyneLaser& l : decoder_.calibration().lasers)
+      max_rot = std::max(max_rot, std::abs(l.rot_correction));
+    const int window = static_cast<int>(std::lround(velodyne_.fov_min_deg * 100.0));
+    const int after = ((azimuth - window) % kTurn + kTurn) % kTurn;
+    return after <= static_cast<int>(std::lround((max_rot * 180.0 / kPi + 2.0) * 100.0));
   }
 
   void point(const VelodyneReturn& r) override {

@@ -89,11 +89,13 @@ class VelodyneDecoder {
   VelodyneDecoder(VelodyneModel model, VelodyneCalibration calibration, const ScannerOptions& scan = {},
                   const VelodyneOptions& options = {});
 
-  /// Decodes one data packet whose TOH counter corresponds to absolute time `toh_time` (s).
-  /// Throws InputError naming packet.where on a wrong size, block flag, azimuth or return mode.
-  void decode(const Packet& packet, double toh_time, Sink& sink);
+  /// Decodes one data packet. `hour_start` is the absolute time (s) at which the packet's TOH
+  /// counter (µs since the top of the hour) was 0: a return's time is hour_start + TOH + its
+  /// firing offset. Throws InputError naming packet.where on a wrong size, block flag, azimuth or
+  /// return mode.
+  void decode(const Packet& packet, double hour_start, Sink& sink);
   /// All returns of the packet (convenience for tests and tools).
-  std::vector<VelodyneReturn> decode(const Packet& packet, double toh_time);
+  std::vector<VelodyneReturn> decode(const Packet& packet, double hour_start);
 
   [[nodiscard]] VelodyneModel model() const { return model_; }
   [[nodiscard]] const VelodyneCalibration& calibration() const { return calibration_; }
