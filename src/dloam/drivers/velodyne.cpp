@@ -53,6 +53,20 @@ std::uint16_t block_azimuth(const Packet& p, int b) { return u16(p.data + b * kB
 
 bool is_dual(std::uint8_t mode) { return mode == kVelodyneDual; }
 
+/// cos and sin of every azimuth step (0.01 deg), interleaved; built once.
+const std::vector<double>& azimuth_table() {
+  static const std::vector<double> table = [] {
+    std::vector<double> t(2 * kTurn);
+    for (int i = 0; i < kTurn; ++i) {
+      const double a = i * 0.01 * kPi / 180.0;
+      t[2 * static_cast<std::size_t>(i)] = std::cos(a);
+      t[2 * static_cast<std::size_t>(i) + 1] = std::sin(a);
+    }
+    return t;
+  }();
+  return table;
+}
+
 std::string fmt(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
@@ -269,12 +283,15 @@ VelodyneDecoder::VelodyneDecoder(VelodyneModel model, VelodyneCalibration calibr
     t.min_int = l.min_intensity;
     t.max_int = l.max_intensity;
     t.ring = static_cast<std::uint16_t>(l.ring);
+    t.simple = t.vert_off == 0.0 && t.horiz_off == 0.0 && !t.two_pt;
+    t.clamp = t.min_int > 0.0 || t.max_int < 255.0 || t.focal_slope != 0.0;
   }
   const auto period = static_cast<float>(info_.group_period_us);
   for (int bank = 0; bank < 4; ++bank)
     for (int c = 0; c < 32; ++c) {
       const auto b = static_cast<std::size_t>(bank), ch = static_cast<std::size_t>(c);
       offset_us_[b][ch] = velodyne_channel_offset_us(model, bank, c);
+      offset_s_[b][ch] = static_cast<double>(offset_us_[b][ch]) * 1e-6;
       fraction_[b][ch] = offset_us_[b][ch] / period;
       if (model == VelodyneModel::kVLS128) {
         // The manual's share of the 53.3 us sequence per firing group (2.665 / 53.3 per slot).
@@ -284,13 +301,10 @@ VelodyneDecoder::VelodyneDecoder(VelodyneModel model, VelodyneCalibration calibr
       laser_[b][ch] =
           static_cast<std::uint16_t>(std::min(velodyne_laser_of(model, bank, c), info_.lasers - 1));
     }
-  cos_table_.resize(kTurn);
-  sin_table_.resize(kTurn);
-  for (int i = 0; i < kTurn; ++i) {
-    const double a = i * 0.01 * kPi / 180.0;
-    cos_table_[static_cast<std::size_t>(i)] = std::cos(a);
-    sin_table_[static_cast<std::size_t>(i)] = std::sin(a);
-  }
+  trig_ = azimuth_table().data();
+  vlp16_ = model == VelodyneModel::kVLP16;
+  period_f_ = static_cast<float>(info_.group_period_us);
+  full_fov_ = fov_min_ == 0 && fov_max_ == kTurn;
 }
 
 int VelodyneDecoder::firings_per_packet(std::uint8_t return_mode) const {
@@ -309,9 +323,11 @@ bool VelodyneDecoder::in_fov(int azimuth) const {
   return azimuth >= fov_min_ || azimuth <= fov_max_;
 }
 
-void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block, int bank, int channel, int group,
-                           std::uint16_t azimuth, float step, double group_time, std::uint8_t return_id,
-                           bool last, Sink& sink) const {
+template <class S>
+[[gnu::always_inline]] inline void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block,
+                                                         int bank, int channel, int group,
+                                                         std::uint16_t azimuth, float step, double group_time,
+                                                         std::uint8_t return_id, bool last, S& sink) const {
   const auto b = static_cast<std::size_t>(bank), ch = static_cast<std::size_t>(channel);
   const std::uint16_t laser = laser_[b][ch];
   const LaserTerms& t = terms_[laser];
@@ -321,20 +337,19 @@ void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block, int 
 
   // Azimuth at this laser's firing, interpolated over the group's azimuth step, minus the laser's
   // azimuth correction, rounded to the encoder's 0.01 deg (the ROS drivers' float arithmetic).
-  const float interp = model_ == VelodyneModel::kVLP16
-                           ? (step * offset_us_[b][ch]) / static_cast<float>(info_.group_period_us)
-                           : step * fraction_[b][ch];
+  const float interp = vlp16_ ? (step * offset_us_[b][ch]) / period_f_ : step * fraction_[b][ch];
   const float az_f = static_cast<float>(azimuth) + interp;
   float corrected = static_cast<float>(static_cast<double>(az_f) - t.rot_units);
   if (corrected < 0.0f) corrected += static_cast<float>(kTurn);
-  const int az = static_cast<int>(std::lround(corrected)) % kTurn;
-  if (!in_fov(az)) return;
+  // Round half away from zero (corrected >= 0; exact in double).
+  int az = static_cast<int>(static_cast<double>(corrected) + 0.5);
+  if (az >= kTurn) az -= kTurn;
+  if (!full_fov_ && !in_fov(az)) return;
 
   VelodyneReturn r;
-  const double cos_a = cos_table_[static_cast<std::size_t>(az)],
-               sin_a = sin_table_[static_cast<std::size_t>(az)];
+  const double cos_a = trig_[2 * az], sin_a = trig_[2 * az + 1];
   const double d = distance;
-  if (t.vert_off == 0.0 && t.horiz_off == 0.0 && !t.two_pt) {
+  if (t.simple) {
     const double xy = d * t.cos_vert;
     r.xyz = Vec3(xy * cos_a, -xy * sin_a, d * t.sin_vert);
   } else {
@@ -359,9 +374,9 @@ void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block, int 
     const double s = 1.0 - raw / 65535.0;
     intensity += t.focal_slope * std::abs(t.focal_offset - 256.0 * s * s);
   }
-  intensity = std::clamp(intensity, t.min_int, std::max(t.min_int, t.max_int));
+  if (t.clamp) intensity = std::clamp(intensity, t.min_int, std::max(t.min_int, t.max_int));
 
-  r.time = group_time + offset_us_[b][ch] * 1e-6;
+  r.time = group_time + offset_s_[b][ch];
   r.range = distance;
   r.intensity = static_cast<float>(intensity);
   r.raw_distance = raw;
@@ -380,16 +395,8 @@ void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block, int 
   sink.point(r);
 }
 
-void VelodyneDecoder::decode_slot(const std::uint8_t* block_data, int block, int bank, int channel, int group,
-                                  std::uint16_t azimuth, float step, double group_time,
-                                  std::uint8_t return_id, bool last, Sink& sink) const {
-  const std::uint8_t* s = block_data + 3 * channel;
-  const std::uint16_t raw = u16(s);
-  if (raw == 0) return;
-  emit(raw, s[2], block, bank, channel, group, azimuth, step, group_time, return_id, last, sink);
-}
-
-void VelodyneDecoder::decode(const Packet& packet, double hour_start, Sink& sink) {
+template <class S>
+void VelodyneDecoder::decode_packet(const Packet& packet, double hour_start, S& sink) {
   if (packet.data == nullptr || packet.size != kVelodyneDataPacketSize)
     fail(packet,
          "not a Velodyne data packet: " + std::to_string(packet.size) + " bytes (a data packet has 1206)");
@@ -451,7 +458,10 @@ void VelodyneDecoder::decode(const Packet& packet, double hour_start, Sink& sink
       const std::uint8_t* d = packet.data + b * kBlockSize + 4;
       const int bk = bank[static_cast<std::size_t>(b)];
       if (!dual) {
-        for (int c = 0; c < 32; ++c) decode_slot(d, b, bk, c, g, az[gi], step[gi], group_time, 0, true, sink);
+        for (int c = 0; c < 32; ++c) {
+          const std::uint16_t raw = u16(d + 3 * c);
+          if (raw != 0) emit(raw, d[3 * c + 2], b, bk, c, g, az[gi], step[gi], group_time, 0, true, sink);
+        }
         continue;
       }
       // Dual: block b holds the last return, block b + 1 the strongest (the second strongest
@@ -489,6 +499,10 @@ void VelodyneDecoder::decode(const Packet& packet, double hour_start, Sink& sink
   }
 }
 
+void VelodyneDecoder::decode(const Packet& packet, double hour_start, Sink& sink) {
+  decode_packet(packet, hour_start, sink);
+}
+
 std::vector<VelodyneReturn> VelodyneDecoder::decode(const Packet& packet, double hour_start) {
   struct Collect : Sink {
     std::vector<VelodyneReturn> out;
@@ -502,9 +516,9 @@ std::vector<VelodyneReturn> VelodyneDecoder::decode(const Packet& packet, double
 // ---------------------------------------------------------------------------------------------
 // Scanner: time base, rotations, sensor model
 
-namespace {
+namespace detail {
 
-class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
+class VelodyneScanner final : public Scanner {
  public:
   VelodyneScanner(VelodyneDecoder decoder, const DriverOptions& options, const VelodyneOptions& velodyne,
                   std::string evidence, std::string notes)
@@ -513,6 +527,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
         velodyne_(velodyne),
         evidence_(std::move(evidence)),
         notes_(std::move(notes)) {
+    expected_points_ = static_cast<std::size_t>(decoder_.calibration().size()) * 2048;
     cut_ = static_cast<int>(std::lround(
                std::fmod(std::fmod(options.scan.cut_azimuth_deg, 360.0) + 360.0, 360.0) * 100.0)) %
            kTurn;
@@ -565,7 +580,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     ++data_packets_;
     index_ = index;
     done_ = &done;
-    decoder_.decode(packet, base_, *this);
+    decoder_.decode_packet(packet, base_, *this);
     done_ = nullptr;
     packet_gap_ = false;
   }
@@ -630,6 +645,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
   }
 
  private:
+  friend class dloam::drivers::VelodyneDecoder;  // calls group() and point()
   static std::uint16_t block_azimuth_of(const Packet& p) { return block_azimuth(p, 0); }
 
   [[nodiscard]] double rotation_hz() const { return sum_dt_ > 0 ? sum_az_ / 100.0 / 360.0 / sum_dt_ : 10.0; }
@@ -656,7 +672,8 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     return false;
   }
 
-  void group(int /*group*/, std::uint16_t azimuth, double time) override {
+  // The decoder's sink.
+  void group(int /*group*/, std::uint16_t azimuth, double time) {
     const int phased = azimuth >= cut_ ? azimuth - cut_ : azimuth - cut_ + kTurn;  // 0..36000
     bool lost = false;
     if (have_group_ && packet_gap_) lost = gap_in_fov(prev_group_az_, azimuth);
@@ -701,7 +718,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
     return after <= static_cast<int>(std::lround((max_rot * 180.0 / kPi + 2.0) * 100.0));
   }
 
-  void point(const VelodyneReturn& r) override {
+  void point(const VelodyneReturn& r) {
     current_.xyz.push_back(r.xyz);
     current_.intensity.push_back(r.intensity);
     current_.ring.push_back(r.ring);
@@ -741,7 +758,7 @@ class VelodyneScanner final : public Scanner, private VelodyneDecoder::Sink {
   std::size_t expected_points_ = 0;
 };
 
-}  // namespace
+}  // namespace detail
 
 std::unique_ptr<Scanner> make_velodyne_scanner(const DriverOptions& options,
                                                const std::vector<Packet>& first_packets) {
@@ -796,7 +813,7 @@ std::unique_ptr<Scanner> make_velodyne_scanner(const DriverOptions& options,
     notes = "its distance_resolution " + fmt(cal.distance_resolution, 4) + " m is not used: " + info.name +
             " packets count " + fmt(info.distance_unit_m * 1000.0, 0) + " mm";
   VelodyneDecoder decoder(model, std::move(cal), options.scan, velodyne);
-  return std::make_unique<VelodyneScanner>(std::move(decoder), options, velodyne, evidence, notes);
+  return std::make_unique<detail::VelodyneScanner>(std::move(decoder), options, velodyne, evidence, notes);
 }
 
 }  // namespace dloam::drivers

@@ -74,6 +74,10 @@ struct VelodyneIdentification {
 /// Throws InputError naming the first packet when there is no data packet or nothing decides.
 VelodyneIdentification identify_velodyne(const std::vector<Packet>& packets);
 
+namespace detail {
+class VelodyneScanner;
+}
+
 /// Packet-level decoder: bytes to returns, no scan assembly.
 class VelodyneDecoder {
  public:
@@ -109,21 +113,23 @@ class VelodyneDecoder {
   [[nodiscard]] bool in_fov(int azimuth) const;
 
  private:
+  friend class detail::VelodyneScanner;
+  /// decode() with the sink's type known: no virtual call per return.
+  template <class S>
+  void decode_packet(const Packet& packet, double hour_start, S& sink);
+  template <class S>
+  void emit(std::uint16_t raw, std::uint8_t refl, int block, int bank, int channel, int group,
+            std::uint16_t azimuth, float step, double group_time, std::uint8_t return_id, bool last,
+            S& sink) const;
+
   struct LaserTerms {
     double cos_vert, sin_vert, rot_units;  // rot_units: rot_correction in 0.01 deg
     double dist_corr, dist_corr_x, dist_corr_y, vert_off, horiz_off;
     double focal_offset, focal_slope, min_int, max_int;
     float dist_corr_f;
-    bool two_pt;
+    bool two_pt, simple, clamp;  // simple: no offsets, no two-point correction
     std::uint16_t ring;
   };
-  void decode_slot(const std::uint8_t* block_data, int block, int bank, int channel, int group,
-                   std::uint16_t azimuth, float step, double group_time, std::uint8_t return_id, bool last,
-                   Sink& sink) const;
-  void emit(std::uint16_t raw, std::uint8_t refl, int block, int bank, int channel, int group,
-            std::uint16_t azimuth, float step, double group_time, std::uint8_t return_id, bool last,
-            Sink& sink) const;
-
   VelodyneModel model_;
   VelodyneModelInfo info_;
   VelodyneCalibration calibration_;
@@ -134,10 +140,13 @@ class VelodyneDecoder {
   float unit_f_ = 0.002f;
   std::vector<LaserTerms> terms_;
   std::array<std::array<float, 32>, 4> offset_us_{};  // [bank][channel]
-  std::array<std::array<float, 32>, 4> fraction_{};   // offset / group period, the azimuth share
+  std::array<std::array<double, 32>, 4> offset_s_{};
+  std::array<std::array<float, 32>, 4> fraction_{};  // offset / group period, the azimuth share
   std::array<std::array<std::uint16_t, 32>, 4> laser_{};
-  std::vector<double> cos_table_, sin_table_;  // 36000 entries, 0.01 deg
-  float last_step_ = 0.0f;                     // azimuth step of the previous packet's last group
+  const double* trig_ = nullptr;  // cos, sin of every 0.01 deg (shared table)
+  bool vlp16_ = false, full_fov_ = true;
+  float period_f_ = 1.0f;
+  float last_step_ = 0.0f;  // azimuth step of the previous packet's last group
 };
 
 /// A Velodyne Scanner (see make_velodyne_scanner).
