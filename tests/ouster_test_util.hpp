@@ -1,9 +1,8 @@
-// Test helpers for the Ouster decoder: MD5 (nettle), a minimal pcap reader (libpcap, Ethernet /
-// IPv4 / UDP), and a builder of synthetic lidar packets for any supported profile.
+// Test helpers for the Ouster decoder: MD5 (nettle), the UDP datagrams of a capture, and a
+// builder of synthetic lidar packets for any supported profile.
 #pragma once
 
 #include <nettle/md5.h>
-#include <pcap/pcap.h>
 
 #include <cstdint>
 #include <cstring>
@@ -13,6 +12,7 @@
 #include <vector>
 
 #include "dloam/drivers/ouster.hpp"
+#include "dloam/io/pcap.hpp"
 
 namespace ouster_test {
 
@@ -51,30 +51,18 @@ struct UdpRecord {
   std::vector<std::uint8_t> payload;
 };
 
-/// The UDP payloads of an Ethernet / IPv4 pcap (payload length from the UDP header).
+/// Every UDP datagram of a capture (dloam::io::PcapReader).
 inline std::vector<UdpRecord> read_udp_pcap(const std::string& path) {
-  char err[PCAP_ERRBUF_SIZE];
-  pcap_t* pc = pcap_open_offline(path.c_str(), err);
-  if (!pc) throw std::runtime_error(path + ": " + err);
+  dloam::io::PcapReader reader(path);
   std::vector<UdpRecord> out;
-  pcap_pkthdr* h = nullptr;
-  const u_char* d = nullptr;
-  int rc = 0;
-  while ((rc = pcap_next_ex(pc, &h, &d)) == 1) {
-    if (h->caplen < 14 + 20 + 8 || d[12] != 0x08 || d[13] != 0x00) continue;
-    const std::size_t ihl = static_cast<std::size_t>(d[14] & 15) * 4;
-    if (d[14 + 9] != 17 || 14 + ihl + 8 > h->caplen) continue;
-    const u_char* udp = d + 14 + ihl;
-    const std::size_t len = static_cast<std::size_t>(udp[4] << 8 | udp[5]);
-    if (len < 8 || 14 + ihl + len > h->caplen) continue;
+  dloam::io::UdpDatagram d;
+  while (reader.next(d)) {
     UdpRecord r;
-    r.stamp = static_cast<double>(h->ts.tv_sec) + 1e-6 * static_cast<double>(h->ts.tv_usec);
-    r.port = static_cast<std::uint16_t>(udp[2] << 8 | udp[3]);
-    r.payload.assign(udp + 8, udp + len);
+    r.stamp = d.time;
+    r.port = d.dst_port;
+    r.payload = d.payload;
     out.push_back(std::move(r));
   }
-  pcap_close(pc);
-  if (rc == -1) throw std::runtime_error(path + ": read error");
   return out;
 }
 
