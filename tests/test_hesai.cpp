@@ -4,7 +4,6 @@
 // clouds of the shared sensors folder, point for point.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +19,8 @@
 #include "dloam/drivers/hesai.hpp"
 #include "dloam/drivers/hesai_packet.hpp"
 #include "dloam/drivers/stamp_alignment.hpp"
+#include "dloam/io/bag.hpp"
+#include "dloam/io/packet_messages.hpp"
 #include "dloam/io/pcd.hpp"
 
 using namespace dloam;
@@ -234,7 +235,7 @@ std::string temp_file(const std::string& name, const std::string& text) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// rosbag2 (sqlite3) bags of pandar_msgs/msg/PandarScan, CDR little-endian.
+// The nebula bags: pandar_msgs/msg/PandarScan messages on /pandar_packets.
 
 struct BagPacket {
   std::vector<std::uint8_t> bytes;
@@ -246,55 +247,28 @@ struct Bag {
   std::vector<BagPacket> packets;
 };
 
-std::uint32_t cdr_u32(const std::vector<std::uint8_t>& d, std::size_t at) {
-  if (at + 4 > d.size()) throw std::runtime_error("CDR message truncated");
-  return static_cast<std::uint32_t>(d[at]) | (static_cast<std::uint32_t>(d[at + 1]) << 8) |
-         (static_cast<std::uint32_t>(d[at + 2]) << 16) | (static_cast<std::uint32_t>(d[at + 3]) << 24);
-}
-
 Bag read_pandar_bag(const std::string& folder) {
-  std::string db;
-  for (const auto& e : std::filesystem::directory_iterator(folder))
-    if (e.path().extension() == ".db3") db = e.path().string();
-  if (db.empty()) throw std::runtime_error(folder + ": no .db3");
-  sqlite3* handle = nullptr;
-  if (sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
-    throw std::runtime_error(db + ": cannot open");
-  sqlite3_stmt* st = nullptr;
-  sqlite3_prepare_v2(handle, "SELECT timestamp, data FROM messages ORDER BY timestamp", -1, &st, nullptr);
-  Bag bag;
-  while (sqlite3_step(st) == SQLITE_ROW) {
-    const std::size_t message = bag.timestamps.size();
-    bag.timestamps.push_back(sqlite3_column_int64(st, 0));
-    const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(st, 1));
-    const std::vector<std::uint8_t> d(blob, blob + sqlite3_column_bytes(st, 1));
-    // Alignment is relative to the byte after the 4-byte encapsulation header.
-    auto align = [](std::size_t at) { return 4 + (at - 4 + 3) / 4 * 4; };
-    std::size_t at = 4 + 8;    // header stamp
-    at += 4 + cdr_u32(d, at);  // frame_id
-    at = align(at);
-    const std::uint32_t count = cdr_u32(d, at);
-    at += 4;
-    for (std::uint32_t i = 0; i < count; ++i) {
+  const io::Bag bag(folder);
+  const std::string topic = "/pandar_packets", type = "pandar_msgs/msg/PandarScan";
+  Bag out;
+  for (std::size_t k = 0; k < bag.message_count(topic); ++k) {
+    const std::int64_t t = bag.message_time_ns(topic, k);
+    out.timestamps.push_back(t);
+    const std::vector<std::uint8_t> data = bag.read(topic, k);
+    const io::PacketMessage m =
+        io::decode_packet_message(type, data.data(), data.size(), 1e-9 * t, bag.where(topic, k));
+    for (std::size_t i = 0; i < m.packets.size(); ++i) {
+      const io::PacketSlice& s = m.packets[i];
       BagPacket p;
-      p.stamp = static_cast<std::int32_t>(cdr_u32(d, at)) + cdr_u32(d, at + 4) * 1e-9;
-      at += 8;
-      const std::size_t data_at = at;
-      at += 1500;
-      const std::uint32_t size = cdr_u32(d, at);
-      at += 4;
-      if (size > 1500) throw std::runtime_error(db + ": packet size above 1500");
-      p.bytes.assign(d.begin() + static_cast<std::ptrdiff_t>(data_at),
-                     d.begin() + static_cast<std::ptrdiff_t>(data_at + size));
-      p.message = message;
+      p.bytes.assign(data.begin() + static_cast<std::ptrdiff_t>(s.offset),
+                     data.begin() + static_cast<std::ptrdiff_t>(s.offset + s.size));
+      p.stamp = s.stamp;
+      p.message = k;
       p.index = i;
-      bag.packets.push_back(std::move(p));
+      out.packets.push_back(std::move(p));
     }
-    if (at != d.size()) throw std::runtime_error(db + ": CDR message has trailing bytes");
   }
-  sqlite3_finalize(st);
-  sqlite3_close(handle);
-  return bag;
+  return out;
 }
 
 std::string bag_folder(const std::string& model_dir) {
