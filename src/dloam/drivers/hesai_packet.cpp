@@ -48,17 +48,22 @@ double packet_time(const std::uint8_t* date, int year_base, std::uint32_t micros
   return static_cast<double>(seconds) + micros * 1e-6;
 }
 
-const std::array<std::uint32_t, 256>& crc_table() {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
+// Slicing-by-16 tables of CRC-32/MPEG-2: tables[0] is the byte-wise table, tables[k] advances a
+// byte's remainder by k more zero bytes.
+using CrcTables = std::array<std::array<std::uint32_t, 256>, 16>;
+const CrcTables& crc_tables() {
+  static const CrcTables tables = [] {
+    CrcTables t{};
     for (std::uint32_t i = 0; i < 256; ++i) {
       std::uint32_t c = i << 24;
       for (int k = 0; k < 8; ++k) c = (c & 0x80000000u) ? (c << 1) ^ 0x04C11DB7u : c << 1;
-      t[i] = c;
+      t[0][i] = c;
     }
+    for (std::size_t k = 1; k < 16; ++k)
+      for (std::size_t i = 0; i < 256; ++i) t[k][i] = (t[k - 1][i] << 8) ^ t[0][t[k - 1][i] >> 24];
     return t;
   }();
-  return table;
+  return tables;
 }
 
 void expect_size(const Packet& packet, Model model, std::size_t expected, const std::string& why) {
@@ -70,9 +75,18 @@ void expect_size(const Packet& packet, Model model, std::size_t expected, const 
 }  // namespace
 
 std::uint32_t crc32_mpeg2(const std::uint8_t* data, std::size_t size) {
-  const auto& table = crc_table();
+  const CrcTables& t = crc_tables();
   std::uint32_t crc = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < size; ++i) crc = (crc << 8) ^ table[((crc >> 24) ^ data[i]) & 0xFFu];
+  std::size_t i = 0;
+  for (; i + 16 <= size; i += 16) {
+    const std::uint8_t* p = data + i;
+    crc ^= (static_cast<std::uint32_t>(p[0]) << 24) | (static_cast<std::uint32_t>(p[1]) << 16) |
+           (static_cast<std::uint32_t>(p[2]) << 8) | p[3];
+    crc = t[15][crc >> 24] ^ t[14][(crc >> 16) & 0xFFu] ^ t[13][(crc >> 8) & 0xFFu] ^ t[12][crc & 0xFFu] ^
+          t[11][p[4]] ^ t[10][p[5]] ^ t[9][p[6]] ^ t[8][p[7]] ^ t[7][p[8]] ^ t[6][p[9]] ^ t[5][p[10]] ^
+          t[4][p[11]] ^ t[3][p[12]] ^ t[2][p[13]] ^ t[1][p[14]] ^ t[0][p[15]];
+  }
+  for (; i < size; ++i) crc = (crc << 8) ^ t[0][((crc >> 24) ^ data[i]) & 0xFFu];
   return crc;
 }
 
