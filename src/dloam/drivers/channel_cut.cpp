@@ -12,9 +12,13 @@ namespace {
 const float kTwoPiF = 2.0f * static_cast<float>(M_PI);
 const float kBackwardTolerance = static_cast<float>(10.0 * M_PI / 180.0);
 
+// angle - floor(angle / 2 pi) x 2 pi in double, for angles within one turn of [0, 2 pi) (block
+// azimuth + offset always are) without the division.
 float normalise(float angle) {
   const double a = angle, m = kTwoPiF;
-  return static_cast<float>(a - std::floor(a / m) * m);
+  if (a < 0.0) return static_cast<float>(a < -m ? a - std::floor(a / m) * m : a + m);
+  if (a >= m) return static_cast<float>(a >= 2.0 * m ? a - std::floor(a / m) * m : a - m);
+  return angle;
 }
 
 // True when `angle` lies in the sector from `start` clockwise to `end` (all in [0, 2 pi)).
@@ -40,6 +44,10 @@ ChannelCut::ChannelCut(const std::vector<double>& azimuth_offsets_deg, double cu
   lead_ = static_cast<std::size_t>(std::max_element(offset_rad_.begin(), offset_rad_.end()) -
                                    offset_rad_.begin());
   cut_ = normalise(static_cast<float>(cut_deg * (M_PI / 180.0)));
+  const auto [lo, hi] = std::minmax_element(azimuth_offsets_deg.begin(), azimuth_offsets_deg.end());
+  min_offset_deg_ = *lo;
+  spread_deg_ = *hi - *lo;
+  cut_deg_ = std::fmod(std::fmod(cut_deg, 360.0) + 360.0, 360.0);
 }
 
 float ChannelCut::corrected_azimuth(std::uint16_t raw_azimuth, int channel) const {
@@ -64,14 +72,38 @@ void ChannelCut::initialise() {
   fresh_ = false;
 }
 
+bool ChannelCut::far_from_cut(std::uint16_t raw_azimuth) const {
+  // Where the firing's corrected azimuths [block + min offset, block + max offset] lie relative to
+  // the cut, in deg; far when the cut is more than kFarDeg outside that sector.
+  constexpr double kFarDeg = 20.0;
+  const double from_cut = std::fmod(raw_azimuth / 100.0 + min_offset_deg_ - cut_deg_ + 720.0, 360.0);
+  return from_cut >= kFarDeg && from_cut <= 360.0 - spread_deg_ - kFarDeg;
+}
+
 ChannelCut::Step ChannelCut::step(std::uint16_t raw_azimuth, bool after_gap) {
+  Step step;
+  const bool far = far_from_cut(raw_azimuth);
+  const int moved = (raw_azimuth - last_raw_ + 36000) % 36000;
+  if (!fresh_ && !after_gap && far && last_far_ && (moved < 1000 || moved > 35000)) {
+    // Away from the cut and a small step (forward or jitter back): no channel can cross, and the
+    // channels' azimuths are computed again from last_raw_ when the cut comes near.
+    last_raw_ = raw_azimuth;
+    stale_ = true;
+    return step;
+  }
   const auto block = static_cast<float>((raw_azimuth / 100.0) * (M_PI / 180.0));
   const std::size_t n = offset_rad_.size();
   for (std::size_t c = 0; c < n; ++c) current_[c] = normalise(block + offset_rad_[c]);
-  Step step;
   if (fresh_) {
     initialise();
+    last_raw_ = raw_azimuth;
+    last_far_ = far;
+    stale_ = false;
     return step;
+  }
+  if (stale_) {
+    for (std::size_t c = 0; c < n; ++c) last_[c] = corrected_azimuth(last_raw_, static_cast<int>(c));
+    stale_ = false;
   }
   for (std::size_t c = 0; c < n; ++c) {
     const float last = last_[c], now = current_[c];
@@ -90,6 +122,8 @@ ChannelCut::Step ChannelCut::step(std::uint16_t raw_azimuth, bool after_gap) {
     }
     last_[c] = now;
   }
+  last_raw_ = raw_azimuth;
+  last_far_ = far;
   if (buffer_[lag_] != pending_ && buffer_[lead_] != pending_) {
     step.emitted = pending_;
     pending_ ^= 1;

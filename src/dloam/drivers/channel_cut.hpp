@@ -47,13 +47,19 @@ class ChannelCut {
 
  private:
   void initialise();
+  [[nodiscard]] bool far_from_cut(std::uint16_t raw_azimuth) const;
   std::vector<float> offset_rad_;
   std::vector<float> current_, last_;
   std::vector<std::uint8_t> buffer_;
   std::size_t lag_ = 0, lead_ = 0;  ///< channels with the smallest / largest offset
   float cut_ = 0.0f;
+  double cut_deg_ = 0.0, min_offset_deg_ = 0.0, spread_deg_ = 0.0;
   int pending_ = 0;
   bool fresh_ = true;
+  // Firings far from the cut are skipped (nothing can cross there); last_ is then stale and is
+  // recomputed from last_raw_.
+  std::uint16_t last_raw_ = 0;
+  bool last_far_ = false, stale_ = false;
 };
 
 }  // namespace dloam::drivers
