@@ -68,6 +68,8 @@ struct HesaiScanner::Impl {
   // ones as double), like nebula's, so that returns at the limits are kept or dropped alike.
   float sensor_min_f, sensor_max_f;
   double config_min, config_max;
+  int raw_lo = 1, raw_hi = 0;  ///< valid raw distances at the distance unit raw_limits_mm
+  int raw_limits_mm = -1;
 
   std::array<Building, 2> building;
   std::size_t counter = 0, decoded = 0, lost = 0, ignored = 0, corrupt = 0, reordered = 0;
@@ -79,7 +81,12 @@ struct HesaiScanner::Impl {
   std::uint8_t last_mode = 0;
   int last_rpm = 0;
   std::array<std::size_t, kMaxStep + 1> step_histogram{};
-  std::size_t reserve_points = 0;
+  std::size_t mode_count = 0;
+  int mode_step = 0;
+  // Capacity reserved for a scan: the most a turn can hold (channels x returns x firings) until a
+  // complete scan was seen, then 1/8 above the largest, so that points are not moved as it grows
+  // (untouched capacity costs address space only).
+  std::size_t reserve_points = 0, bound_points = 0;
 
   static hesai::Calibration checked(hesai::Calibration c, Model m) {
     hesai::check_calibration(c, m);
@@ -144,26 +151,32 @@ struct HesaiScanner::Impl {
 
   // Most frequent azimuth step between firings (0.01 deg); the model's at 600 rpm before any.
   [[nodiscard]] int step_cdeg() const {
-    std::size_t best = 0;
-    int step = 0;
-    for (int s = 1; s <= kMaxStep; ++s)
-      if (step_histogram[static_cast<std::size_t>(s)] > best) {
-        best = step_histogram[static_cast<std::size_t>(s)];
-        step = s;
-      }
-    return step > 0 ? step : static_cast<int>(std::lround(info.step_deg_600 * 100.0));
+    return mode_step > 0 ? mode_step : static_cast<int>(std::lround(info.step_deg_600 * 100.0));
+  }
+
+  void count_step(int d) {
+    if (d < 1 || d > kMaxStep) return;
+    const std::size_t n = ++step_histogram[static_cast<std::size_t>(d)];
+    if (n > mode_count) {
+      mode_count = n;
+      mode_step = d;
+    }
   }
 
   [[nodiscard]] double rpm() const { return last_rpm > 0 ? last_rpm : 600.0; }
 
+  void reserve(Scan& s) const {
+    s.xyz.reserve(reserve_points);
+    s.intensity.reserve(reserve_points);
+    s.ring.reserve(reserve_points);
+    s.return_id.reserve(reserve_points);
+    s.stamps.reserve(reserve_points);
+  }
+
   void reset_building(int b) {
     Building& bl = building[static_cast<std::size_t>(b)];
     bl.scan = Scan{};
-    bl.scan.xyz.reserve(reserve_points);
-    bl.scan.intensity.reserve(reserve_points);
-    bl.scan.ring.reserve(reserve_points);
-    bl.scan.return_id.reserve(reserve_points);
-    bl.scan.stamps.reserve(reserve_points);
+    reserve(bl.scan);
     bl.touched = false;
     bl.complete = true;
   }
@@ -172,7 +185,9 @@ struct HesaiScanner::Impl {
     Building& bl = building[static_cast<std::size_t>(b)];
     if (!bl.scan.xyz.empty()) {
       bl.scan.complete = bl.complete;
-      reserve_points = std::max(reserve_points, bl.scan.size() + bl.scan.size() / 8);
+      if (bl.complete)
+        reserve_points =
+            std::min(bound_points, std::max(reserve_points, bl.scan.size() + bl.scan.size() / 8));
       done.push_back(std::move(bl.scan));
     }
     reset_building(b);
@@ -234,6 +249,21 @@ struct HesaiScanner::Impl {
     return raw != 0 && !(d < sensor_min_f) && !(sensor_max_f < d) && !(d < config_min) && !(config_max < d);
   }
 
+  // The raw distances valid() accepts at the packet's distance unit: one interval, since the float
+  // distance grows with the raw value.
+  void set_raw_limits(const PacketView& v) {
+    raw_lo = 1;
+    raw_hi = 0;
+    bool found = false;
+    for (int r = 1; r <= 0xFFFF; ++r) {
+      if (!valid(static_cast<std::uint16_t>(r), static_cast<float>(r * v.dis_unit_m))) continue;
+      if (!found) raw_lo = r;
+      raw_hi = r;
+      found = true;
+    }
+    raw_limits_mm = v.dis_unit_mm;
+  }
+
   void add(const Packet& packet, std::vector<Scan>& done) {
     const std::size_t index = counter++;
     if (hesai::is_gps_packet(packet)) {
@@ -255,14 +285,9 @@ struct HesaiScanner::Impl {
       gap_pending = false;
     }
     // Azimuth steps (Horizon_SCAN), across packets only when none was lost in between.
-    if (have_previous && !gap_pending && !long_gap) {
-      const int d = (v.azimuth(0) - previous_azimuth + 36000) % 36000;
-      if (d >= 1 && d <= kMaxStep) ++step_histogram[static_cast<std::size_t>(d)];
-    }
-    for (int g = 1; g < groups; ++g) {
-      const int d = (v.azimuth(g * n) - v.azimuth((g - 1) * n) + 36000) % 36000;
-      if (d >= 1 && d <= kMaxStep) ++step_histogram[static_cast<std::size_t>(d)];
-    }
+    if (have_previous && !gap_pending && !long_gap)
+      count_step((v.azimuth(0) - previous_azimuth + 36000) % 36000);
+    for (int g = 1; g < groups; ++g) count_step((v.azimuth(g * n) - v.azimuth((g - 1) * n) + 36000) % 36000);
     have_previous = true;
     previous_has_sequence = v.has_sequence;
     previous_sequence = v.sequence;
@@ -270,9 +295,14 @@ struct HesaiScanner::Impl {
     previous_azimuth = v.azimuth((groups - 1) * n);
     last_mode = v.return_mode;
     last_rpm = v.motor_rpm;
-    ++decoded;
+    if (decoded++ == 0 || bound_points < static_cast<std::size_t>(channels * n) * (36000 / step_cdeg() + 1)) {
+      bound_points = static_cast<std::size_t>(channels * n) * (36000 / step_cdeg() + 1);
+      reserve_points = std::max(reserve_points, bound_points);
+      for (Building& bl : building) reserve(bl.scan);
+    }
     if (options.firing_time_azimuth && v.motor_rpm != angles_rpm) build_angle_tables(v.motor_rpm);
 
+    if (v.dis_unit_mm != raw_limits_mm) set_raw_limits(v);
     const double packet_time = v.sensor_time + clock.update(packet.stamp, v.sensor_time);
     const double du = v.dis_unit_m;
     const double separation = options.multi_return_separation_m;
@@ -313,16 +343,18 @@ struct HesaiScanner::Impl {
 
       std::uint16_t raw[3];
       std::uint8_t refl[3];
-      float dist[3];
       bool ok[3];
+      auto dist = [&](int k) { return static_cast<float>(raw[k] * du); };
       for (int c = 0; c < channels; ++c) {
+        bool any = false;
         for (int k = 0; k < n; ++k) {
           const std::uint8_t* u = v.unit(b0 + k, c);
           raw[k] = static_cast<std::uint16_t>(u[0] | (u[1] << 8));
           refl[k] = u[2];
-          dist[k] = static_cast<float>(raw[k] * du);
-          ok[k] = valid(raw[k], dist[k]);
+          ok[k] = raw[k] >= raw_lo && raw[k] <= raw_hi;
+          any = any || ok[k];
         }
+        if (!any) continue;
         Scan& out = building[cut.buffer(c)].scan;
         const auto cc = static_cast<std::size_t>(c);
         auto push = [&](int k) {
@@ -348,7 +380,7 @@ struct HesaiScanner::Impl {
               for (int j = 0; j < n && !drop; ++j) {
                 if (j == k) continue;
                 drop = (raw[j] == raw[k] && refl[j] == refl[k]) ||
-                       static_cast<double>(std::fabs(dist[j] - dist[k])) < separation;
+                       static_cast<double>(std::fabs(dist(j) - dist(k))) < separation;
               }
             }
             if (!drop) push(k);
