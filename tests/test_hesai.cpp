@@ -353,6 +353,32 @@ TEST(HesaiPacket, UnknownProtocolVersionIsAnError) {
   std::vector<std::uint8_t> other(600, 0x55);
   EXPECT_FALSE(looks_like_hesai(as_packet(other)));
   EXPECT_THROW(hesai::identify_model(as_packet(other)), InputError);
+  // A Velodyne data packet also starts with FF EE blocks, but has 1206 bytes; Ouster's start 01 00.
+  std::vector<std::uint8_t> velodyne(1206, 0);
+  for (std::size_t k = 0; k < 12; ++k) velodyne[100 * k] = 0xFF, velodyne[100 * k + 1] = 0xEE;
+  EXPECT_FALSE(looks_like_hesai(as_packet(velodyne)));
+  std::vector<std::uint8_t> ouster(8448, 0);
+  ouster[0] = 1;
+  EXPECT_FALSE(looks_like_hesai(as_packet(ouster)));
+}
+
+TEST(HesaiPacket, Crc32Mpeg2MatchesTheBitwiseDefinition) {
+  // MSB first, polynomial 0x04C11DB7, initial value all ones, no final xor; check value of
+  // "123456789" is 0x0376E6E7.
+  const std::string check = "123456789";
+  EXPECT_EQ(hesai::crc32_mpeg2(reinterpret_cast<const std::uint8_t*>(check.data()), check.size()),
+            0x0376E6E7u);
+  std::mt19937 rng(5);
+  for (std::size_t n : {0u, 1u, 7u, 15u, 16u, 17u, 31u, 1028u}) {
+    std::vector<std::uint8_t> d(n);
+    for (auto& b : d) b = static_cast<std::uint8_t>(rng());
+    std::uint32_t crc = 0xFFFFFFFFu;
+    for (const std::uint8_t b : d) {
+      crc ^= static_cast<std::uint32_t>(b) << 24;
+      for (int k = 0; k < 8; ++k) crc = (crc & 0x80000000u) ? (crc << 1) ^ 0x04C11DB7u : crc << 1;
+    }
+    EXPECT_EQ(hesai::crc32_mpeg2(d.data(), d.size()), crc) << n << " bytes";
+  }
 }
 
 TEST(HesaiPacket, UnknownReturnModeAndBadAzimuthAreErrors) {
@@ -944,6 +970,17 @@ TEST(HesaiFactory, ModelFromThePacketsOrTheOptions) {
   o.model.clear();
   EXPECT_THAT([&] { make_hesai_scanner(o, {as_packet(gps)}); },
               ::testing::ThrowsMessage<InputError>(HasSubstr("no Hesai data packet")));
+}
+
+TEST(HesaiFactory, SharedCsvOfAnotherModelThanThePackets) {
+  const std::string csv = kHesai + "/calibration/PandarXT32M.csv";
+  if (!std::filesystem::exists(csv)) GTEST_SKIP() << csv << " is absent";
+  const std::vector<std::uint8_t> xt32 = uniform_packet(Model::kPandarXT32, 0x39, 0, 18, 5.0).bytes();
+  DriverOptions o;
+  o.calibration = csv;
+  EXPECT_THAT([&] { make_hesai_scanner(o, {as_packet(xt32)}); },
+              ::testing::ThrowsMessage<InputError>(
+                  AllOf(HasSubstr(csv), HasSubstr("not a PandarXT32 angle-correction table"))));
 }
 
 TEST(HesaiFactory, CalibrationFileOfTheWrongSizeOrModel) {
