@@ -33,7 +33,9 @@ constexpr std::size_t kPointsPerPacket = 8;
 /// depends on the packets before it, as real decoders' scans do.
 class FakeScanner : public drivers::Scanner {
  public:
+  static inline std::size_t fed = 0;  ///< packets added to any FakeScanner
   void add(const drivers::Packet& p, std::vector<drivers::Scan>& done) override {
+    ++fed;
     if (p.size != kPacketSize || p.data[0] != 'F' || p.data[1] != 'K')
       throw InputError(p.where + ": not a fake packet");
     std::uint16_t az = 0;
@@ -181,6 +183,24 @@ TEST(PacketSequence, ScansReadByIndexEqualOneSequentialDecode) {
   expect_scans(seq, all, "pcap");
   EXPECT_THAT(seq.source->describe(), HasSubstr("to other ports"));
   for (std::size_t i = 0; i < seq.size(); ++i) EXPECT_THAT(seq.scan_files[i], HasSubstr(pcap + ": scan "));
+}
+
+/// A scan is decoded from a resume point two rotations before it, and reading the next scan
+/// continues the same decoding: neither starts again from the first packet.
+TEST(PacketSequence, ScansAreDecodedFromNearbyResumePoints) {
+  TempDir dir;
+  const FakeRecording f = fake_packets(8);  // 288 packets
+  const std::string pcap = write_fake_pcap(dir, f);
+  const io::Sequence seq = io::open_packet_sequence(io::pcap_recording(pcap, 2368), fake_factory());
+  ASSERT_EQ(seq.size(), 7u);
+  FakeScanner::fed = 0;
+  (void)seq.read_scan(6);  // the last complete rotation: packets 234..270
+  EXPECT_LE(FakeScanner::fed, 3 * 36u);
+  FakeScanner::fed = 0;
+  (void)seq.read_scan(2);
+  (void)seq.read_scan(3);
+  (void)seq.read_scan(4);
+  EXPECT_LE(FakeScanner::fed, 3 * 36u + 2 * 36u + 2);
 }
 
 /// The same packets as NebulaPackets messages (about half a rotation each) of an MCAP bag and a db3 bag.

@@ -142,6 +142,18 @@ TEST(Ros2Bag, ASingleDb3FileOpensWithoutItsFolder) {
   const io::Bag bag(db3);
   EXPECT_EQ(bag.message_count("/pandar_packets"), 2u);
   EXPECT_THAT(bag.describe(), HasSubstr("rosbag2 SQLite"));
+  // The same file from memory, as a fuzzer reads it.
+  std::ifstream in(db3, std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                        std::istreambuf_iterator<char>());
+  const auto mem = io::bag_detail::open_sqlite_memory(bytes, "mem.db3");
+  const auto refs = mem->index("/pandar_packets");
+  ASSERT_EQ(refs.size(), 2u);
+  EXPECT_EQ(mem->read(refs[1], "m"), bag.read("/pandar_packets", 1));
+  EXPECT_THAT(input_error_of([&] {
+                io::bag_detail::open_sqlite_memory({1, 2, 3}, "junk.db3");
+              }),
+              HasSubstr("junk.db3: "));
 }
 
 /// A bag copied into a temp folder (its db3 split into two files) reads as one time-ordered view.

@@ -42,6 +42,9 @@ class BagFile {
 };
 std::unique_ptr<BagFile> open_sqlite_file(const std::string& path);
 std::unique_ptr<BagFile> open_mcap_file(const std::string& path);
+/// A rosbag2 SQLite image held in memory (fuzzing, tests); `name` is used in errors. The MCAP
+/// counterpart is open_mcap_memory() (mcap.hpp).
+std::unique_ptr<BagFile> open_sqlite_memory(const std::vector<std::uint8_t>& bytes, const std::string& name);
 }  // namespace bag_detail
 
 class Bag {

@@ -52,7 +52,11 @@ class Source {
     fd_ = ::open(name_.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd_ < 0) fail(name_, "cannot be opened");
     const off_t end = ::lseek(fd_, 0, SEEK_END);
-    if (end < 0) fail(name_, "cannot be read (not a regular file?)");
+    if (end < 0) {
+      ::close(fd_);
+      fd_ = -1;
+      fail(name_, "cannot be read (not a regular file?)");
+    }
     size_ = static_cast<std::uint64_t>(end);
   }
   ~Source() {

@@ -2,6 +2,7 @@
 // serialization_format, ...) and messages(id, topic_id, timestamp, data).
 #include <sqlite3.h>
 
+#include <cstring>
 #include <map>
 #include <memory>
 
@@ -27,22 +28,37 @@ struct Statement {
 
 class SqliteFile : public BagFile {
  public:
+  /// An SQLite image held in memory (fuzzing, tests); `name` is used in errors.
+  SqliteFile(std::string name, const std::vector<std::uint8_t>& bytes) : path_(std::move(name)) {
+    sqlite3* db = nullptr;
+    const int opened = sqlite3_open_v2(":memory:", &db, SQLITE_OPEN_READWRITE, nullptr);
+    db_.reset(db);
+    if (opened != SQLITE_OK) fail(path_, "cannot be opened (sqlite: out of memory)");
+    auto* copy = static_cast<unsigned char*>(sqlite3_malloc64(bytes.size()));
+    if (!copy && !bytes.empty()) fail(path_, "cannot be opened (sqlite: out of memory)");
+    if (!bytes.empty()) std::memcpy(copy, bytes.data(), bytes.size());
+    const int rc = sqlite3_deserialize(db_.get(), "main", copy, static_cast<sqlite3_int64>(bytes.size()),
+                                       static_cast<sqlite3_int64>(bytes.size()),
+                                       SQLITE_DESERIALIZE_FREEONCLOSE | SQLITE_DESERIALIZE_READONLY);
+    if (rc != SQLITE_OK)
+      fail(path_, std::string("cannot be opened (sqlite: ") + sqlite3_errmsg(db_.get()) + ")");
+    check_tables();
+  }
+
   explicit SqliteFile(std::string path) : path_(std::move(path)) {
     open(false);
     try {
       check_tables();
     } catch (const InputError&) {
       // A bag in a read-only folder whose journal SQLite cannot lock: read it as immutable.
-      if (sqlite3_errcode(db_) != SQLITE_CANTOPEN && sqlite3_errcode(db_) != SQLITE_BUSY &&
-          sqlite3_errcode(db_) != SQLITE_READONLY)
+      if (sqlite3_errcode(db_.get()) != SQLITE_CANTOPEN && sqlite3_errcode(db_.get()) != SQLITE_BUSY &&
+          sqlite3_errcode(db_.get()) != SQLITE_READONLY)
         throw;
-      sqlite3_close(db_);
-      db_ = nullptr;
+      db_.reset();
       open(true);
       check_tables();
     }
   }
-  ~SqliteFile() override { sqlite3_close(db_); }
 
   [[nodiscard]] const std::string& path() const override { return path_; }
   [[nodiscard]] std::string format() const override { return "rosbag2 SQLite"; }
@@ -88,8 +104,9 @@ class SqliteFile : public BagFile {
     sqlite3_bind_int64(read_->stmt, 1, static_cast<sqlite3_int64>(ref.locator));
     const int rc = sqlite3_step(read_->stmt);
     if (rc != SQLITE_ROW)
-      fail(where, rc == SQLITE_DONE ? std::string("message row vanished from the file")
-                                    : std::string("cannot be read (sqlite: ") + sqlite3_errmsg(db_) + ")");
+      fail(where, rc == SQLITE_DONE
+                      ? std::string("message row vanished from the file")
+                      : std::string("cannot be read (sqlite: ") + sqlite3_errmsg(db_.get()) + ")");
     const auto* blob = static_cast<const std::uint8_t*>(sqlite3_column_blob(read_->stmt, 0));
     const auto n = static_cast<std::size_t>(sqlite3_column_bytes(read_->stmt, 0));
     std::vector<std::uint8_t> out(blob, blob + n);
@@ -101,12 +118,12 @@ class SqliteFile : public BagFile {
   void open(bool immutable) {
     const std::string name = immutable ? "file:" + path_ + "?immutable=1" : path_;
     const int flags = SQLITE_OPEN_READONLY | (immutable ? SQLITE_OPEN_URI : 0);
-    if (sqlite3_open_v2(name.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
-      const std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
-      sqlite3_close(db_);
-      db_ = nullptr;
-      fail(path_, "cannot be opened (sqlite: " + msg + ")");
-    }
+    sqlite3* db = nullptr;
+    const int rc = sqlite3_open_v2(name.c_str(), &db, flags, nullptr);
+    db_.reset(db);
+    if (rc != SQLITE_OK)
+      fail(path_,
+           "cannot be opened (sqlite: " + std::string(db ? sqlite3_errmsg(db) : "out of memory") + ")");
   }
 
   void check_tables() {
@@ -123,8 +140,9 @@ class SqliteFile : public BagFile {
 
   Statement prepare(const char* sql) {
     Statement s;
-    if (sqlite3_prepare_v2(db_, sql, -1, &s.stmt, nullptr) != SQLITE_OK)
-      fail(path_, std::string("not a readable rosbag2 SQLite file (sqlite: ") + sqlite3_errmsg(db_) + ")");
+    if (sqlite3_prepare_v2(db_.get(), sql, -1, &s.stmt, nullptr) != SQLITE_OK)
+      fail(path_,
+           std::string("not a readable rosbag2 SQLite file (sqlite: ") + sqlite3_errmsg(db_.get()) + ")");
     return s;
   }
 
@@ -132,7 +150,8 @@ class SqliteFile : public BagFile {
     const int rc = sqlite3_step(s.stmt);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    fail(path_, "not a readable rosbag2 SQLite file (sqlite, " + doing + ": " + sqlite3_errmsg(db_) + ")");
+    fail(path_,
+         "not a readable rosbag2 SQLite file (sqlite, " + doing + ": " + sqlite3_errmsg(db_.get()) + ")");
   }
 
   static std::string text(sqlite3_stmt* s, int col) {
@@ -140,8 +159,11 @@ class SqliteFile : public BagFile {
     return p ? std::string(reinterpret_cast<const char*>(p)) : std::string();
   }
 
+  struct CloseDb {
+    void operator()(sqlite3* db) const { sqlite3_close(db); }
+  };
   std::string path_;
-  sqlite3* db_ = nullptr;
+  std::unique_ptr<sqlite3, CloseDb> db_;  // declared before the statements: closed after them
   std::map<std::string, std::int64_t> ids_;
   std::unique_ptr<Statement> read_;
 };
@@ -149,6 +171,10 @@ class SqliteFile : public BagFile {
 
 std::unique_ptr<BagFile> open_sqlite_file(const std::string& path) {
   return std::make_unique<SqliteFile>(path);
+}
+
+std::unique_ptr<BagFile> open_sqlite_memory(const std::vector<std::uint8_t>& bytes, const std::string& name) {
+  return std::make_unique<SqliteFile>(name, bytes);
 }
 
 }  // namespace dloam::io::bag_detail
