@@ -10,23 +10,38 @@
 #include "commands.hpp"
 #include "dloam/core/sensor.hpp"
 #include "dloam/io/sequence_check.hpp"
+#include "input_args.hpp"
 
 namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, topic, preset;
+  std::string dir, preset;
+  InputArgs input;
 };
 
 std::string yes_no(bool present) { return present ? "yes" : "no"; }
 
 void print_summary(const io::SequenceReport& r, const std::string& preset) {
   fmt::print("sequence      {}\n", r.dir);
-  if (r.source.empty())
+  if (r.scan_format.empty())
+    fmt::print("scans         none (the input could not be opened)\n");
+  else if (r.source.empty())
     fmt::print("scans         {} {} files, {} readable\n", r.scans, r.scan_format, r.scans_ok);
+  else if (r.recording_sensor)
+    fmt::print("scans         {} decoded from raw packets, {} readable\nsource        {}\n", r.scans,
+               r.scans_ok, r.source);
   else
     fmt::print("scans         {} {} messages, {} readable\nsource        {}\n", r.scans, r.scan_format,
                r.scans_ok, r.source);
+  if (r.recording_sensor) {
+    const SensorConfig& s = *r.recording_sensor;
+    fmt::print(
+        "sensor model  {} from the recording: {} beams ({:.1f} .. {:.1f} deg), {} columns, {:.2f} Hz, "
+        "{:.2f} .. {:.1f} m (used by `dloam run` without --preset)\n",
+        s.preset, s.N_scan, s.beam_elevation_deg(0), s.beam_elevation_deg(s.N_scan - 1), s.Horizon_SCAN,
+        s.scan_rate_hz, s.min_range, s.max_range);
+  }
   if (r.scans_ok > 0) {
     fmt::print("points/scan   min {}  mean {:.0f}  max {}\n", r.min_points, r.mean_points, r.max_points);
     fmt::print("point times   {}\n", r.points_with_time == r.scans_ok ? "per-point time channel in every scan"
@@ -72,7 +87,7 @@ void run_check(const CheckArgs& a) {
         fmt::print(stderr, "problem: {}\n", problem);
         std::fflush(stderr);
       },
-      a.topic);
+      to_input_options(apply_input_args(InputConfig{}, a.input)));
   print_summary(report, a.preset);
   if (report.problems.empty()) {
     fmt::print("OK: no problems found\n");
@@ -92,9 +107,10 @@ void register_check(CLI::App& app) {
   cmd->add_option(
          "sequence", args->dir,
          "folder with velodyne/*.bin (KITTI) or *.pcd scans; optional labels/, poses.txt, calib.txt, "
-         "times.txt; or a rosbag (.bag) of sensor_msgs/PointCloud2")
+         "times.txt; a bag (.bag, .db3, .mcap, rosbag2 folder) of PointCloud2 or raw packets; a capture "
+         "(.pcap, .pcapng)")
       ->required();
-  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
+  add_input_options(cmd, args->input);
   cmd->add_option(
       "--preset", args->preset,
       "sensor you expect (HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128): warns if the data looks different");
@@ -104,7 +120,9 @@ void register_check(CLI::App& app) {
       "Examples:\n"
       "  dloam check ../shared/data/kitti-raw-0005\n"
       "  dloam check recordings/campus_pcd --preset VLP-16\n"
-      "  dloam check drive.bag --topic /velodyne_points");
+      "  dloam check drive.bag --topic /velodyne_points\n"
+      "  dloam check vlp16.pcap\n"
+      "  dloam check os1.pcap --metadata os1.json");
   cmd->callback([args] { run_check(*args); });
 }
 

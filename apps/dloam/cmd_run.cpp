@@ -23,6 +23,7 @@
 #include "dloam/io/ply.hpp"
 #include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
+#include "input_args.hpp"
 #include "progress.hpp"
 #include "report.hpp"
 
@@ -33,7 +34,8 @@ namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
 
 struct RunArgs {
-  std::string sequence, topic, out, config_path, preset, detector, deskew;
+  std::string sequence, out, config_path, preset, detector, deskew;
+  InputArgs input;
   std::vector<double> lengths;
   long first = 0, count = -1;
   bool drop_moving = false;
@@ -162,10 +164,23 @@ std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& cfg) {
 #endif
 }
 
+/// The sensor model of a raw-packet recording replaces the default one when neither --preset nor
+/// the config file's sensor section chose one.
+void take_recording_sensor(PipelineConfig& cfg, const io::Sequence& seq, const RunArgs& a) {
+  if (!seq.sensor || !a.preset.empty() || io::config_file_sets(a.config_path, "sensor")) return;
+  cfg.sensor = *seq.sensor;
+  io::validate_config(cfg, "the sensor model of " + a.sequence);
+  fmt::print("sensor model from the recording: {} ({} beams, {} columns, {:.1f} Hz, {:.1f} .. {:.1f} m)\n",
+             cfg.sensor.preset, cfg.sensor.N_scan, cfg.sensor.Horizon_SCAN, cfg.sensor.scan_rate_hz,
+             cfg.sensor.min_range, cfg.sensor.max_range);
+}
+
 void run(const RunArgs& a) {
   PipelineConfig cfg = make_config(a);
+  cfg.input = apply_input_args(cfg.input, a.input);
+  const io::Sequence seq = io::open_sequence(a.sequence, to_input_options(cfg.input));
+  take_recording_sensor(cfg, seq, a);
   const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
-  const io::Sequence seq = io::open_sequence(a.sequence, a.topic);
   const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
   if (first >= seq.size())
     throw InputError(
@@ -244,7 +259,10 @@ void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run the SLAM pipeline on a sequence folder");
   cmd->footer(
       "Input: a KITTI / SemanticKITTI sequence folder (velodyne/*.bin, optional labels/, poses.txt,\n"
-      "calib.txt, times.txt), a folder of PCD files, or a rosbag of sensor_msgs/PointCloud2 (--topic).\n"
+      "calib.txt, times.txt), a folder of PCD files, a ROS 1 bag of sensor_msgs/PointCloud2, a ROS 2 bag\n"
+      "(rosbag2 folder, .db3, .mcap) of PointCloud2 or raw packets, or a pcap / pcapng capture. Raw\n"
+      "packets (Velodyne, Ouster, Hesai) give the sensor model unless --preset or the config's sensor:\n"
+      "section sets one.\n"
       "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
       "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
       "metrics.json (when the folder has poses.txt).\n"
@@ -252,11 +270,15 @@ void register_run(CLI::App& app) {
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
-      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16");
-  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder, or a rosbag (.bag)")
+      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16\n"
+      "  dloam run vlp16.pcap --out out/vlp16\n"
+      "  dloam run os1.pcap --metadata os1.json --returns strongest --out out/os1\n"
+      "  dloam run drive_bag/ --topic /points --out out/drive   # rosbag2 folder (.db3 or .mcap inside)");
+  cmd->add_option("SEQUENCE_DIR", args->sequence,
+                  "sequence folder, bag (.bag, .db3, .mcap, rosbag2 folder) or capture (.pcap, .pcapng)")
       ->required()
       ->check(CLI::ExistingPath);
-  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
+  add_input_options(cmd, args->input);
   cmd->add_option("--out,-o", args->out, "output folder")->required();
   cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
       ->check(CLI::ExistingFile);

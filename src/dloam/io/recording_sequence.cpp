@@ -61,9 +61,12 @@ drivers::DriverOptions driver_options(const InputOptions& in, drivers::Vendor ve
     o.calibration = !in.metadata.empty() ? in.metadata : in.calibration;
     if (o.calibration.empty()) {
       o.calibration = !bag_metadata.empty() ? bag_metadata : ouster_metadata_beside(path);
-      if (!o.calibration.empty())
-        note = bag_metadata.empty() ? "metadata " + o.calibration + " (found beside the recording)"
-                                    : "metadata from the bag's metadata topic";
+      if (o.calibration.empty())
+        fail(path,
+             "holds Ouster packets, which cannot be decoded without the sensor's metadata JSON: no .json "
+             "named like the recording beside it (nor a metadata topic); give it with --metadata FILE");
+      note = bag_metadata.empty() ? "metadata " + o.calibration + " (found beside the recording)"
+                                  : "metadata from the bag's metadata topic";
     } else {
       note = "metadata " + o.calibration;
     }
