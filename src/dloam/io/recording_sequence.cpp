@@ -1,6 +1,8 @@
 // Recordings as sequences (see recording_sequence.hpp).
 #include "dloam/io/recording_sequence.hpp"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -131,8 +133,8 @@ std::shared_ptr<TempFile> bag_metadata_file(const Bag& bag) {
     if (json.find('{') == std::string::npos) continue;
     auto file = std::make_shared<TempFile>();
     file->path =
-        (fs::temp_directory_path() /
-         ("dloam-metadata-" + std::to_string(reinterpret_cast<std::uintptr_t>(file.get())) + ".json"))
+        (fs::temp_directory_path() / ("dloam-metadata-" + std::to_string(::getpid()) + "-" +
+                                      std::to_string(reinterpret_cast<std::uintptr_t>(file.get())) + ".json"))
             .string();
     std::ofstream(file->path) << json;
     return file;
