@@ -803,12 +803,13 @@ void check_reference(const Reference& ref, std::size_t expected_points, std::siz
   ASSERT_NE(neb, nullptr) << "no scan completes in the message of " << ref.pcd;
   ASSERT_EQ(neb->points.size(), pcd.points);
   std::size_t direct = 0, far = 0;
-  double worst = 0.0;
+  double worst = 0.0, apart = 0.0;  // apart: our point against the reference, azimuths as decoded
   for (std::size_t i = 0; i < pcd.points; ++i) {
     const NebulaReturn& n = neb->points[i];
     const Vec3 expected = turn(n.r.xyz, n.azimuth - n.r.azimuth);
     const double d = (expected - pcd.xyz(i)).norm();
     worst = std::max(worst, d);
+    apart = std::max(apart, (n.r.xyz - pcd.xyz(i)).norm());
     if (d > 1e-3) ++far;
     if (n.azimuth == n.r.azimuth) {
       ++direct;
@@ -875,6 +876,9 @@ void check_reference(const Reference& ref, std::size_t expected_points, std::siz
       EXPECT_TRUE(edge || n.packet == head || n.packet == tail)
           << "packet " << n.packet << " block " << int(n.r.block);
     }
+  std::cout << scanner->describe() << "\n";
+  std::cout << ref.folder << ": replayed nebula scan within " << worst
+            << " m of the PCD; our points (own azimuth) up to " << apart << " m from it\n";
   std::cout << ref.folder << ": nebula " << neb->points.size() << " points, " << direct
             << " at our azimuth; our scan " << best->size() << " points: " << best_common << " common, "
             << ours_only << " only ours (" << by_359
