@@ -834,6 +834,13 @@ void check_reference(const Reference& ref, std::size_t expected_points, std::siz
   std::vector<Scan> ours;
   for (std::size_t i = 0; i < rec.size(); ++i) scanner->add(rec.packet(i), ours);
   scanner->finish(ours);
+  // 600 rpm; 151 (VLP-16 dual, VLP-32C) or 603-604 (VLS-128) packets per turn of 12 or 3 firings
+  // (the sensors README): ~1810 firings per turn, 1792 columns.
+  const SensorConfig sensor = scanner->sensor();
+  EXPECT_NEAR(sensor.scan_rate_hz, 10.0, 0.1);
+  EXPECT_EQ(sensor.Horizon_SCAN, 1792);
+  EXPECT_EQ(sensor.N_scan, cal.size());
+  EXPECT_NEAR(sensor.min_range, ref.min_range, 1e-12);
   using Key = std::tuple<double, double, double>;
   auto key = [](const Vec3& p) { return Key(p.x(), p.y(), p.z()); };
   std::map<Key, const NebulaReturn*> source;

@@ -659,7 +659,11 @@ class VelodyneScanner final : public Scanner {
   /// down to a multiple of 64: every column of the range image then holds a firing.
   [[nodiscard]] int horizon_scan() const {
     const std::uint8_t mode = data_packets_ > 0 ? mode_ : kVelodyneStrongest;
-    const double firing_hz = decoder_.firings_per_packet(mode) / (decoder_.packet_period_us(mode) * 1e-6);
+    // Packets per second as measured (a VLS-128 sends one every 164-168 us, not the 3 x 53.3 us
+    // of its firing sequences), else nominal.
+    const double packet_s =
+        intervals_ > 0 ? sum_dt_ / static_cast<double>(intervals_) : decoder_.packet_period_us(mode) * 1e-6;
+    const double firing_hz = decoder_.firings_per_packet(mode) / packet_s;
     const double rpm = std::max(60.0, std::round(rotation_hz()) * 60.0);
     const double per_turn = firing_hz / (rpm / 60.0);
     return std::clamp(static_cast<int>(per_turn / 64.0) * 64, 64, 16384);
