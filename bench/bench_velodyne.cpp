@@ -48,7 +48,10 @@ const Recording& recording(const std::string& folder) {
   return cache.emplace(folder, std::move(r)).first->second;
 }
 
-void decode(benchmark::State& state, const std::string& model, const std::string& calibration) {
+/// `streaming`: each finished scan is dropped at once, as a consumer that processes scans one by
+/// one does (the allocator then reuses their memory); otherwise all scans are kept to the end.
+void decode(benchmark::State& state, const std::string& model, const std::string& calibration,
+            bool streaming = false) {
   const std::string dir = std::string(DLOAM_SENSORS_DIR) + "/velodyne/nebula/";
   if (!std::filesystem::exists(dir + model)) {
     state.SkipWithError("no sensors data");
@@ -67,9 +70,15 @@ void decode(benchmark::State& state, const std::string& model, const std::string
     auto scanner = drivers::make_velodyne_scanner(o, first);
     state.ResumeTiming();
     std::vector<drivers::Scan> scans;
-    for (const drivers::Packet& p : rec.packets) scanner->add(p, scans);
-    scanner->finish(scans);
     points = 0;
+    for (const drivers::Packet& p : rec.packets) {
+      scanner->add(p, scans);
+      if (streaming) {
+        for (const auto& s : scans) points += s.size();
+        scans.clear();
+      }
+    }
+    scanner->finish(scans);
     for (const auto& s : scans) points += s.size();
     benchmark::DoNotOptimize(scans.data());
   }
@@ -80,10 +89,12 @@ void decode(benchmark::State& state, const std::string& model, const std::string
 }
 
 void BM_VelodyneVls128(benchmark::State& state) { decode(state, "vls128", "VLS128.yaml"); }
+void BM_VelodyneVls128Streaming(benchmark::State& state) { decode(state, "vls128", "VLS128.yaml", true); }
 void BM_VelodyneVlp16Dual(benchmark::State& state) { decode(state, "vlp16", "VLP16.yaml"); }
 void BM_VelodyneVlp32(benchmark::State& state) { decode(state, "vlp32", "VLP32.yaml"); }
 
 BENCHMARK(BM_VelodyneVls128)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VelodyneVls128Streaming)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_VelodyneVlp16Dual)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_VelodyneVlp32)->Unit(benchmark::kMillisecond);
 

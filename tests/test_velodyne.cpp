@@ -196,8 +196,8 @@ TEST(Velodyne, AzimuthIsInterpolatedOverTheFiringTime) {
   EXPECT_EQ(r[1].azimuth, 1000 + 2 * 96 + 48);   // second sequence, half a block later
   EXPECT_EQ(r[2].azimuth, 1000 + 2 * 96 + 64);   // 55.296 + 8 * 2.304 = 2/3 of the block
   EXPECT_EQ(r[3].azimuth, 1000 + 11 * 96 + 48);  // the last block rotates as the one before
-  // The point lies at its azimuth: azimuth = atan2(-y, x).
-  EXPECT_NEAR(std::atan2(-r[1].xyz.y(), r[1].xyz.x()) / kDeg, (1000 + 2 * 96 + 48) * 0.01, 1e-9);
+  // The point lies at its azimuth: azimuth = atan2(-y, x) (float cos / sin table: 1e-7 rad).
+  EXPECT_NEAR(std::atan2(-r[1].xyz.y(), r[1].xyz.x()) / kDeg, (1000 + 2 * 96 + 48) * 0.01, 1e-5);
 }
 
 TEST(Velodyne, DualReturnsKeepStrongestLastOrBothAndIdenticalOnce) {
@@ -803,12 +803,13 @@ void check_reference(const Reference& ref, std::size_t expected_points, std::siz
   ASSERT_NE(neb, nullptr) << "no scan completes in the message of " << ref.pcd;
   ASSERT_EQ(neb->points.size(), pcd.points);
   std::size_t direct = 0, far = 0;
-  double worst = 0.0;
+  double worst = 0.0, apart = 0.0;  // apart: our point against the reference, azimuths as decoded
   for (std::size_t i = 0; i < pcd.points; ++i) {
     const NebulaReturn& n = neb->points[i];
     const Vec3 expected = turn(n.r.xyz, n.azimuth - n.r.azimuth);
     const double d = (expected - pcd.xyz(i)).norm();
     worst = std::max(worst, d);
+    apart = std::max(apart, (n.r.xyz - pcd.xyz(i)).norm());
     if (d > 1e-3) ++far;
     if (n.azimuth == n.r.azimuth) {
       ++direct;
@@ -833,6 +834,13 @@ void check_reference(const Reference& ref, std::size_t expected_points, std::siz
   std::vector<Scan> ours;
   for (std::size_t i = 0; i < rec.size(); ++i) scanner->add(rec.packet(i), ours);
   scanner->finish(ours);
+  // 600 rpm; 151 (VLP-16 dual, VLP-32C) or 603-604 (VLS-128) packets per turn of 12 or 3 firings
+  // (the sensors README): ~1810 firings per turn, 1792 columns.
+  const SensorConfig sensor = scanner->sensor();
+  EXPECT_NEAR(sensor.scan_rate_hz, 10.0, 0.1);
+  EXPECT_EQ(sensor.Horizon_SCAN, 1792);
+  EXPECT_EQ(sensor.N_scan, cal.size());
+  EXPECT_NEAR(sensor.min_range, ref.min_range, 1e-12);
   using Key = std::tuple<double, double, double>;
   auto key = [](const Vec3& p) { return Key(p.x(), p.y(), p.z()); };
   std::map<Key, const NebulaReturn*> source;
@@ -875,6 +883,9 @@ void check_reference(const Reference& ref, std::size_t expected_points, std::siz
       EXPECT_TRUE(edge || n.packet == head || n.packet == tail)
           << "packet " << n.packet << " block " << int(n.r.block);
     }
+  std::cout << scanner->describe() << "\n";
+  std::cout << ref.folder << ": replayed nebula scan within " << worst
+            << " m of the PCD; our points (own azimuth) up to " << apart << " m from it\n";
   std::cout << ref.folder << ": nebula " << neb->points.size() << " points, " << direct
             << " at our azimuth; our scan " << best->size() << " points: " << best_common << " common, "
             << ours_only << " only ours (" << by_359

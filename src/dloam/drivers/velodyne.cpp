@@ -7,6 +7,10 @@
 
 #include "dloam/core/types.hpp"
 
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+
 namespace dloam::drivers {
 namespace {
 
@@ -53,14 +57,15 @@ std::uint16_t block_azimuth(const Packet& p, int b) { return u16(p.data + b * kB
 
 bool is_dual(std::uint8_t mode) { return mode == kVelodyneDual; }
 
-/// cos and sin of every azimuth step (0.01 deg), interleaved; built once.
-const std::vector<double>& azimuth_table() {
-  static const std::vector<double> table = [] {
-    std::vector<double> t(2 * kTurn);
+/// cos and sin of every azimuth step (0.01 deg), interleaved; built once. float: 288 KB that stay
+/// in cache, 1e-5 m at 200 m.
+const std::vector<float>& azimuth_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t(2 * kTurn);
     for (int i = 0; i < kTurn; ++i) {
       const double a = i * 0.01 * kPi / 180.0;
-      t[2 * static_cast<std::size_t>(i)] = std::cos(a);
-      t[2 * static_cast<std::size_t>(i) + 1] = std::sin(a);
+      t[2 * static_cast<std::size_t>(i)] = static_cast<float>(std::cos(a));
+      t[2 * static_cast<std::size_t>(i) + 1] = static_cast<float>(std::sin(a));
     }
     return t;
   }();
@@ -654,7 +659,11 @@ class VelodyneScanner final : public Scanner {
   /// down to a multiple of 64: every column of the range image then holds a firing.
   [[nodiscard]] int horizon_scan() const {
     const std::uint8_t mode = data_packets_ > 0 ? mode_ : kVelodyneStrongest;
-    const double firing_hz = decoder_.firings_per_packet(mode) / (decoder_.packet_period_us(mode) * 1e-6);
+    // Packets per second as measured (a VLS-128 sends one every 164-168 us, not the 3 x 53.3 us
+    // of its firing sequences), else nominal.
+    const double packet_s =
+        intervals_ > 0 ? sum_dt_ / static_cast<double>(intervals_) : decoder_.packet_period_us(mode) * 1e-6;
+    const double firing_hz = decoder_.firings_per_packet(mode) / packet_s;
     const double rpm = std::max(60.0, std::round(rotation_hz()) * 60.0);
     const double per_turn = firing_hz / (rpm / 60.0);
     return std::clamp(static_cast<int>(per_turn / 64.0) * 64, 64, 16384);
@@ -734,6 +743,25 @@ class VelodyneScanner final : public Scanner {
     current_.ring.reserve(expected_points_);
     current_.return_id.reserve(expected_points_);
     current_.stamps.reserve(expected_points_);
+    huge_pages(current_.xyz);
+    huge_pages(current_.stamps);
+    huge_pages(current_.intensity);
+  }
+
+  /// Asks for transparent huge pages behind a scan's large arrays: a fresh scan of a 128-beam
+  /// sensor is ~10 MB, and faulting it in 4 KB pages cost a quarter of the decoding time.
+  template <class T>
+  static void huge_pages(std::vector<T>& v) {
+#ifdef __linux__
+    constexpr std::uintptr_t kHuge = 2u << 20;
+    const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
+    const std::uintptr_t end = begin + v.capacity() * sizeof(T);
+    const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
+    if (end > first + kHuge)
+      madvise(reinterpret_cast<void*>(first), (end - first) & ~(kHuge - 1), MADV_HUGEPAGE);
+#else
+    (void)v;
+#endif
   }
 
   VelodyneDecoder decoder_;

@@ -143,7 +143,7 @@ class VelodyneDecoder {
   std::array<std::array<double, 32>, 4> offset_s_{};
   std::array<std::array<float, 32>, 4> fraction_{};  // offset / group period, the azimuth share
   std::array<std::array<std::uint16_t, 32>, 4> laser_{};
-  const double* trig_ = nullptr;  // cos, sin of every 0.01 deg (shared table)
+  const float* trig_ = nullptr;  // cos, sin of every 0.01 deg (shared table)
   bool vlp16_ = false, full_fov_ = true;
   float period_f_ = 1.0f;
   float last_step_ = 0.0f;  // azimuth step of the previous packet's last group
