@@ -624,8 +624,28 @@ TEST(OusterFrames, SensorModelFromTheMetadata) {
   ASSERT_EQ(s.beam_elevations_deg.size(), 32u);
   EXPECT_DOUBLE_EQ(s.beam_elevations_deg.front(), -15.0);  // bottom beam first
   EXPECT_DOUBLE_EQ(s.beam_elevations_deg.back(), 15.0);
+  // Beam origin heights: every point of ring k, near or far, lies on the cone
+  // z = offset_k + rho tan(elevation_k) (rho: distance from the sensor's z axis).
   ASSERT_EQ(s.beam_vertical_offsets_m.size(), 32u);
-  EXPECT_DOUBLE_EQ(s.beam_vertical_offsets_m[0], 0.03618);
+  const OusterXyzLut& lut = sc.lut();
+  for (int row = 0; row < 32; ++row) {
+    const int ring = 31 - row;  // the synthetic beams are listed top first, evenly spaced
+    const double tan_el = std::tan(s.beam_elevations_deg[static_cast<std::size_t>(ring)] * M_PI / 180.0);
+    for (int m : {0, 333, 1500})
+      for (double r : {700.0, 3000.0, 60000.0}) {
+        const Vec3 p = lut.point(row, m, r);
+        EXPECT_NEAR(
+            p.z(),
+            s.beam_vertical_offsets_m[static_cast<std::size_t>(ring)] + std::hypot(p.x(), p.y()) * tan_el,
+            2e-5)
+            << row << " " << m << " " << r;
+      }
+  }
+  // Without the beam origin offset n they would all be the mid-plane height.
+  EXPECT_NEAR(
+      s.beam_vertical_offsets_m[16],
+      0.03618 - 0.015806 * std::cos(-1.5 * M_PI / 180.0) * std::tan(s.beam_elevations_deg[16] * M_PI / 180.0),
+      1e-12);
   EXPECT_EQ(s.min_range, 0.5);
   EXPECT_EQ(s.max_range, 200.0);
   DriverOptions o;
@@ -905,6 +925,39 @@ std::vector<Scan> decode_recording(const std::string& pcap, const std::string& j
   return scans;
 }
 
+TEST(OusterRecordings, LooksLikeOusterTellsTheLidarPackets) {
+  // Every lidar packet of every Ouster capture, none of its IMU packets, no Velodyne packet.
+  std::size_t lidar = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(kOuster)) {
+    if (entry.path().extension() != ".pcap") continue;
+    const auto recs = read_udp_pcap(entry.path().string());
+    for (const auto& p : packets_of(recs, entry.path().filename().string())) {
+      EXPECT_EQ(looks_like_ouster(p), p.port == 7502) << p.where << " (" << p.size << " B)";
+      lidar += p.port == 7502 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(lidar, 64u * 6 + 1 + 192 + 8 + 34);
+  const std::string vlp = kSensors + "/velodyne/veloview/vlp-16-test-90deg-1-50-frames.pcap";
+  if (fs::exists(vlp)) {
+    const auto recs = read_udp_pcap(vlp);
+    for (const auto& p : packets_of(recs, "vlp-16")) ASSERT_FALSE(looks_like_ouster(p)) << p.where;
+  }
+}
+
+TEST(OusterRecordings, AnotherSensorsMetadataOfTheSameLayoutIsAnError) {
+  // OS-1-128 packets with the OS-0-128's metadata: both RNG15_RFL8_NIR8 with 128 pixels (8448 B).
+  const std::string pcap = kOuster + "/OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  const std::string json = kOuster + "/OS-0-128-U1_v2.3.0_1024x10.json";
+  SKIP_WITHOUT(pcap);
+  const auto recs = read_udp_pcap(pcap);
+  const auto pk = packets_of(recs, "lb_n3.pcap");
+  DriverOptions o;
+  o.calibration = json;
+  EXPECT_THAT(error_of([&] { make_ouster_scanner(o, pk); }),
+              HasSubstr("lb_n3.pcap: packet 0: the packet comes from sensor 122201000998 but " + json +
+                        " is the metadata of sensor 122150000150"));
+}
+
 TEST(OusterRecordings, LegacyFirmware2WithTheReducedJsonGivesOneFrame) {
   const std::string pcap = kOuster + "/OS-1-64_1024x10_fw20.pcap";
   SKIP_WITHOUT(pcap);
@@ -1035,9 +1088,18 @@ TEST(OusterRecordings, RealFramesLookLikeAScene) {
     const Eigen::Vector3d normal = svd.matrixV().col(2);
     const double tilt = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / M_PI;
     const double height = -A.col(2).mean();
+    // The sensor model puts every point back on its own beam (the range image's row).
+    DriverOptions o;
+    o.calibration = kOuster + "/" + file.json;
+    const SensorConfig model = make_ouster_scanner(o, {})->sensor();
+    const BeamLookup lookup(model);
+    std::size_t own_row = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) own_row += lookup.row(s.xyz[i]) == s.ring[i] ? 1 : 0;
+    const double own = static_cast<double>(own_row) / static_cast<double>(s.size());
     std::cout << file.pcap << ": " << s.size() << " points, ground " << height
-              << " m below the sensor frame, tilt " << tilt << " deg, " << ground.size()
-              << " ground points\n";
+              << " m below the sensor frame, tilt " << tilt << " deg, " << ground.size() << " ground points, "
+              << 100.0 * own << " % on their own row\n";
+    EXPECT_GT(own, 0.995) << file.pcap;
     EXPECT_LT(tilt, 6.0) << file.pcap;
     EXPECT_GT(height, 0.2) << file.pcap;
     EXPECT_LT(height, 4.0) << file.pcap;
