@@ -739,6 +739,29 @@ TEST(OusterBadInput, PacketsThatDoNotFitTheMetadata) {
   s2.add(ip, out);
   EXPECT_EQ(s2.stats().imu_packets, 1u);
   EXPECT_THAT(s2.describe(), HasSubstr("1 IMU packets ignored"));
+
+  // The IMU profile of firmware 3: 32 B header, 100 B NMEA block, 36 B per sample, 32 B footer.
+  nlohmann::json j = nlohmann::json::parse(synthetic_json("RNG15_RFL8_NIR8", 128));
+  j["data_format"]["udp_profile_imu"] = "ACCEL32_GYRO32_NMEA";
+  const OusterMetadata no_count = parse_ouster_metadata(j.dump(), "imu.json");
+  EXPECT_EQ(no_count.imu_packet_size, 0);
+  j["imu_data_format"] = {{"imu_measurements_per_packet", 8}};
+  const OusterMetadata counted = parse_ouster_metadata(j.dump(), "imu.json");
+  EXPECT_EQ(counted.imu_packet_size, 164 + 36 * 8);
+  std::vector<std::uint8_t> imu3(164 + 36 * 8, 0);
+  ip.data = imu3.data();
+  ip.size = imu3.size();
+  ip.port = 0;
+  for (const OusterMetadata* m : {&no_count, &counted}) {
+    OusterScanner s3(*m, DriverOptions{});
+    s3.add(ip, out);
+    EXPECT_EQ(s3.stats().imu_packets, 1u);
+  }
+  imu3.resize(48);  // not this profile's IMU packet
+  ip.size = imu3.size();
+  ip.data = imu3.data();
+  EXPECT_THAT(error_of([&] { OusterScanner(counted, DriverOptions{}).add(ip, out); }),
+              HasSubstr("a 48-byte packet does not fit imu.json"));
 }
 
 TEST(OusterBadInput, MakeScannerNeedsTheMetadataAndChecksTheFirstPackets) {

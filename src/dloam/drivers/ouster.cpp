@@ -181,6 +181,8 @@ bool OusterScanner::check(const Packet& p, std::size_t fallback_index) const {
   }
   if ((md_.imu_packet_size > 0 && p.size == static_cast<std::size_t>(md_.imu_packet_size)) || on_imu_port)
     return false;
+  if (md_.imu_packet_size == 0 && p.size > 164 && (p.size - 164) % 36 == 0 && p.size <= 164 + 36 * 1000)
+    return false;
   std::string msg = where + ": a " + std::to_string(p.size) + "-byte packet does not fit " + md_.source +
                     ": " + to_string(format_.profile) + " with " + std::to_string(format_.pixels_per_column) +
                     " pixels and " + std::to_string(format_.columns_per_packet) +
