@@ -12,6 +12,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <sstream>
 
@@ -762,6 +763,43 @@ TEST(OusterBadInput, PacketsThatDoNotFitTheMetadata) {
   ip.data = imu3.data();
   EXPECT_THAT(error_of([&] { OusterScanner(counted, DriverOptions{}).add(ip, out); }),
               HasSubstr("a 48-byte packet does not fit imu.json"));
+}
+
+TEST(OusterBadInput, RandomBytesGiveInputErrorsOrScansNeverAnythingElse) {
+  std::mt19937 rng(7);
+  for (const char* profile :
+       {"LEGACY", "RNG19_RFL8_SIG16_NIR16_DUAL", "RNG15_RFL8_NIR8", "FUSA_RNG15_RFL8_NIR8_DUAL"}) {
+    const OusterMetadata md = synthetic(profile, 32);
+    const PacketBuilder b(md);
+    OusterScanner sc(md, DriverOptions{});
+    std::vector<Scan> out;
+    std::size_t errors = 0, taken = 0;
+    for (int k = 0; k < 300; ++k) {
+      // A valid packet with random pixels and a few random header bytes, or random sizes.
+      std::vector<std::uint8_t> buf =
+          b.packet(static_cast<std::uint32_t>(k / 8), (k % 8) * 16, [&](int, int, std::uint8_t* px) {
+            for (std::size_t i = 0; i < b.fmt.pixel_size; ++i) px[i] = static_cast<std::uint8_t>(rng());
+          });
+      if (k % 3 == 0) buf[rng() % buf.size()] = static_cast<std::uint8_t>(rng());
+      if (k % 7 == 0) buf.resize(rng() % (buf.size() + 64));
+      Packet p;
+      p.data = buf.data();
+      p.size = buf.size();
+      p.where = "random: packet " + std::to_string(k);
+      try {
+        sc.add(p, out);
+        ++taken;
+      } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("random: packet " + std::to_string(k))) << profile;
+        ++errors;
+      }
+    }
+    sc.finish(out);
+    EXPECT_GT(taken, 100u) << profile;
+    EXPECT_GT(errors, 10u) << profile;
+    for (const auto& s : out)
+      for (const auto& q : s.xyz) ASSERT_TRUE(q.allFinite()) << profile;
+  }
 }
 
 TEST(OusterBadInput, MakeScannerNeedsTheMetadataAndChecksTheFirstPackets) {
