@@ -53,12 +53,13 @@ struct ScanStats {
   }
 };
 
-/// A sequence stored in one file (rosbag): every scan read through its source, stamps as times.
-void check_file_sequence(const std::string& path, const std::string& topic, SequenceReport& r, Checker& c) {
+/// A recording (bag, capture): every scan read through its source, stamps as times.
+void check_file_sequence(const std::string& path, const InputOptions& input, SequenceReport& r, Checker& c) {
   Sequence seq;
-  if (!c.attempt([&] { seq = open_sequence(path, topic); })) return;
+  if (!c.attempt([&] { seq = open_sequence(path, input); })) return;
   r.scans = seq.size();
-  r.scan_format = "PointCloud2";
+  r.scan_format = seq.sensor ? "decoded" : "PointCloud2";
+  r.recording_sensor = seq.sensor;
   ScanStats stats;
   for (std::size_t i = 0; i < seq.size(); ++i) c.attempt([&] { stats.add(seq.read_scan(i), r); });
   stats.finish(r);
@@ -158,12 +159,19 @@ void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c)
 SequenceReport check_sequence(const std::string& dir,
                               const std::function<void(const std::string&)>& on_problem,
                               const std::string& topic) {
+  InputOptions input;
+  input.topic = topic;
+  return check_sequence(dir, on_problem, input);
+}
+
+SequenceReport check_sequence(const std::string& dir,
+                              const std::function<void(const std::string&)>& on_problem,
+                              const InputOptions& input) {
   SequenceReport report;
   report.dir = dir;
   Checker checker{report, on_problem};
-  std::error_code ec;
-  if (fs::is_regular_file(dir, ec) || !topic.empty()) {
-    check_file_sequence(dir, topic, report, checker);
+  if (is_recording(dir) || !input.topic.empty()) {
+    check_file_sequence(dir, input, report, checker);
     return report;
   }
   SequenceFiles files;
