@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/kitti.hpp"
 #include "ouster_test_util.hpp"
 
 using namespace dloam;
@@ -1095,6 +1096,33 @@ TEST(OusterRecordings, ThreeFramesOfLbN3AndTheSinglePacketFile) {
   EXPECT_FALSE(one[0].complete);
   std::set<double> columns(one[0].stamps.begin(), one[0].stamps.end());
   EXPECT_LE(columns.size(), 16u);
+}
+
+TEST(OusterRecordings, ThroughTheSequenceLayer) {
+  // Captures opened as sequences: the JSON beside the capture, or given; the empty capture is
+  // refused by the sequence layer with its reason.
+  const std::string lb = kOuster + "/OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  SKIP_WITHOUT(lb);
+  const io::Sequence seq = io::open_sequence(lb);
+  ASSERT_EQ(seq.size(), 3u);
+  ASSERT_TRUE(seq.sensor.has_value());
+  EXPECT_EQ(seq.sensor->preset, "OS-1-128");
+  EXPECT_EQ(seq.sensor->N_scan, 128);
+  EXPECT_EQ(seq.sensor->Horizon_SCAN, 1024);
+  const PointCloud cloud = seq.read_scan(2);
+  EXPECT_GT(cloud.size(), 100000u);
+  ASSERT_EQ(seq.times.size(), 3u);
+  EXPECT_NEAR(seq.times[2] - seq.times[0], 0.2, 1e-3);
+
+  io::InputOptions in;
+  in.metadata = kOuster + "/OS-1-64_sensor_config_reduced.json";
+  EXPECT_EQ(io::open_sequence(kOuster + "/OS-1-64_1024x10_fw20.pcap", in).size(), 1u);
+
+  const std::string empty = kOuster + "/bad/empty_pcap.pcap";
+  const std::string e = error_of([&] { (void)io::open_sequence(empty); });
+  std::cout << "empty_pcap: " << e << "\n";
+  EXPECT_THAT(e, HasSubstr("empty_pcap.pcap"));
+  EXPECT_THAT(e, HasSubstr("holds no UDP datagrams"));
 }
 
 TEST(OusterRecordings, RealFramesLookLikeAScene) {
