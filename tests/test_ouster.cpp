@@ -12,10 +12,12 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <sstream>
 
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/kitti.hpp"
 #include "ouster_test_util.hpp"
 
 using namespace dloam;
@@ -624,8 +626,28 @@ TEST(OusterFrames, SensorModelFromTheMetadata) {
   ASSERT_EQ(s.beam_elevations_deg.size(), 32u);
   EXPECT_DOUBLE_EQ(s.beam_elevations_deg.front(), -15.0);  // bottom beam first
   EXPECT_DOUBLE_EQ(s.beam_elevations_deg.back(), 15.0);
+  // Beam origin heights: every point of ring k, near or far, lies on the cone
+  // z = offset_k + rho tan(elevation_k) (rho: distance from the sensor's z axis).
   ASSERT_EQ(s.beam_vertical_offsets_m.size(), 32u);
-  EXPECT_DOUBLE_EQ(s.beam_vertical_offsets_m[0], 0.03618);
+  const OusterXyzLut& lut = sc.lut();
+  for (int row = 0; row < 32; ++row) {
+    const int ring = 31 - row;  // the synthetic beams are listed top first, evenly spaced
+    const double tan_el = std::tan(s.beam_elevations_deg[static_cast<std::size_t>(ring)] * M_PI / 180.0);
+    for (int m : {0, 333, 1500})
+      for (double r : {700.0, 3000.0, 60000.0}) {
+        const Vec3 p = lut.point(row, m, r);
+        EXPECT_NEAR(
+            p.z(),
+            s.beam_vertical_offsets_m[static_cast<std::size_t>(ring)] + std::hypot(p.x(), p.y()) * tan_el,
+            2e-5)
+            << row << " " << m << " " << r;
+      }
+  }
+  // Without the beam origin offset n they would all be the mid-plane height.
+  EXPECT_NEAR(
+      s.beam_vertical_offsets_m[16],
+      0.03618 - 0.015806 * std::cos(-1.5 * M_PI / 180.0) * std::tan(s.beam_elevations_deg[16] * M_PI / 180.0),
+      1e-12);
   EXPECT_EQ(s.min_range, 0.5);
   EXPECT_EQ(s.max_range, 200.0);
   DriverOptions o;
@@ -719,6 +741,66 @@ TEST(OusterBadInput, PacketsThatDoNotFitTheMetadata) {
   s2.add(ip, out);
   EXPECT_EQ(s2.stats().imu_packets, 1u);
   EXPECT_THAT(s2.describe(), HasSubstr("1 IMU packets ignored"));
+
+  // The IMU profile of firmware 3: 32 B header, 100 B NMEA block, 36 B per sample, 32 B footer.
+  nlohmann::json j = nlohmann::json::parse(synthetic_json("RNG15_RFL8_NIR8", 128));
+  j["data_format"]["udp_profile_imu"] = "ACCEL32_GYRO32_NMEA";
+  const OusterMetadata no_count = parse_ouster_metadata(j.dump(), "imu.json");
+  EXPECT_EQ(no_count.imu_packet_size, 0);
+  j["imu_data_format"] = {{"imu_measurements_per_packet", 8}};
+  const OusterMetadata counted = parse_ouster_metadata(j.dump(), "imu.json");
+  EXPECT_EQ(counted.imu_packet_size, 164 + 36 * 8);
+  std::vector<std::uint8_t> imu3(164 + 36 * 8, 0);
+  ip.data = imu3.data();
+  ip.size = imu3.size();
+  ip.port = 0;
+  for (const OusterMetadata* m : {&no_count, &counted}) {
+    OusterScanner s3(*m, DriverOptions{});
+    s3.add(ip, out);
+    EXPECT_EQ(s3.stats().imu_packets, 1u);
+  }
+  imu3.resize(48);  // not this profile's IMU packet
+  ip.size = imu3.size();
+  ip.data = imu3.data();
+  EXPECT_THAT(error_of([&] { OusterScanner(counted, DriverOptions{}).add(ip, out); }),
+              HasSubstr("a 48-byte packet does not fit imu.json"));
+}
+
+TEST(OusterBadInput, RandomBytesGiveInputErrorsOrScansNeverAnythingElse) {
+  std::mt19937 rng(7);
+  for (const char* profile :
+       {"LEGACY", "RNG19_RFL8_SIG16_NIR16_DUAL", "RNG15_RFL8_NIR8", "FUSA_RNG15_RFL8_NIR8_DUAL"}) {
+    const OusterMetadata md = synthetic(profile, 32);
+    const PacketBuilder b(md);
+    OusterScanner sc(md, DriverOptions{});
+    std::vector<Scan> out;
+    std::size_t errors = 0, taken = 0;
+    for (int k = 0; k < 300; ++k) {
+      // A valid packet with random pixels and a few random header bytes, or random sizes.
+      std::vector<std::uint8_t> buf =
+          b.packet(static_cast<std::uint32_t>(k / 8), (k % 8) * 16, [&](int, int, std::uint8_t* px) {
+            for (std::size_t i = 0; i < b.fmt.pixel_size; ++i) px[i] = static_cast<std::uint8_t>(rng());
+          });
+      if (k % 3 == 0) buf[rng() % buf.size()] = static_cast<std::uint8_t>(rng());
+      if (k % 7 == 0) buf.resize(rng() % (buf.size() + 64));
+      Packet p;
+      p.data = buf.data();
+      p.size = buf.size();
+      p.where = "random: packet " + std::to_string(k);
+      try {
+        sc.add(p, out);
+        ++taken;
+      } catch (const InputError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("random: packet " + std::to_string(k))) << profile;
+        ++errors;
+      }
+    }
+    sc.finish(out);
+    EXPECT_GT(taken, 100u) << profile;
+    EXPECT_GT(errors, 10u) << profile;
+    for (const auto& s : out)
+      for (const auto& q : s.xyz) ASSERT_TRUE(q.allFinite()) << profile;
+  }
 }
 
 TEST(OusterBadInput, MakeScannerNeedsTheMetadataAndChecksTheFirstPackets) {
@@ -905,6 +987,39 @@ std::vector<Scan> decode_recording(const std::string& pcap, const std::string& j
   return scans;
 }
 
+TEST(OusterRecordings, LooksLikeOusterTellsTheLidarPackets) {
+  // Every lidar packet of every Ouster capture, none of its IMU packets, no Velodyne packet.
+  std::size_t lidar = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(kOuster)) {
+    if (entry.path().extension() != ".pcap") continue;
+    const auto recs = read_udp_pcap(entry.path().string());
+    for (const auto& p : packets_of(recs, entry.path().filename().string())) {
+      EXPECT_EQ(looks_like_ouster(p), p.port == 7502) << p.where << " (" << p.size << " B)";
+      lidar += p.port == 7502 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(lidar, 64u * 6 + 1 + 192 + 8 + 34);
+  const std::string vlp = kSensors + "/velodyne/veloview/vlp-16-test-90deg-1-50-frames.pcap";
+  if (fs::exists(vlp)) {
+    const auto recs = read_udp_pcap(vlp);
+    for (const auto& p : packets_of(recs, "vlp-16")) ASSERT_FALSE(looks_like_ouster(p)) << p.where;
+  }
+}
+
+TEST(OusterRecordings, AnotherSensorsMetadataOfTheSameLayoutIsAnError) {
+  // OS-1-128 packets with the OS-0-128's metadata: both RNG15_RFL8_NIR8 with 128 pixels (8448 B).
+  const std::string pcap = kOuster + "/OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  const std::string json = kOuster + "/OS-0-128-U1_v2.3.0_1024x10.json";
+  SKIP_WITHOUT(pcap);
+  const auto recs = read_udp_pcap(pcap);
+  const auto pk = packets_of(recs, "lb_n3.pcap");
+  DriverOptions o;
+  o.calibration = json;
+  EXPECT_THAT(error_of([&] { make_ouster_scanner(o, pk); }),
+              HasSubstr("lb_n3.pcap: packet 0: the packet comes from sensor 122201000998 but " + json +
+                        " is the metadata of sensor 122150000150"));
+}
+
 TEST(OusterRecordings, LegacyFirmware2WithTheReducedJsonGivesOneFrame) {
   const std::string pcap = kOuster + "/OS-1-64_1024x10_fw20.pcap";
   SKIP_WITHOUT(pcap);
@@ -983,6 +1098,33 @@ TEST(OusterRecordings, ThreeFramesOfLbN3AndTheSinglePacketFile) {
   EXPECT_LE(columns.size(), 16u);
 }
 
+TEST(OusterRecordings, ThroughTheSequenceLayer) {
+  // Captures opened as sequences: the JSON beside the capture, or given; the empty capture is
+  // refused by the sequence layer with its reason.
+  const std::string lb = kOuster + "/OS-1-128_v2.3.0_1024x10_lb_n3.pcap";
+  SKIP_WITHOUT(lb);
+  const io::Sequence seq = io::open_sequence(lb);
+  ASSERT_EQ(seq.size(), 3u);
+  ASSERT_TRUE(seq.sensor.has_value());
+  EXPECT_EQ(seq.sensor->preset, "OS-1-128");
+  EXPECT_EQ(seq.sensor->N_scan, 128);
+  EXPECT_EQ(seq.sensor->Horizon_SCAN, 1024);
+  const PointCloud cloud = seq.read_scan(2);
+  EXPECT_GT(cloud.size(), 100000u);
+  ASSERT_EQ(seq.times.size(), 3u);
+  EXPECT_NEAR(seq.times[2] - seq.times[0], 0.2, 1e-3);
+
+  io::InputOptions in;
+  in.metadata = kOuster + "/OS-1-64_sensor_config_reduced.json";
+  EXPECT_EQ(io::open_sequence(kOuster + "/OS-1-64_1024x10_fw20.pcap", in).size(), 1u);
+
+  const std::string empty = kOuster + "/bad/empty_pcap.pcap";
+  const std::string e = error_of([&] { (void)io::open_sequence(empty); });
+  std::cout << "empty_pcap: " << e << "\n";
+  EXPECT_THAT(e, HasSubstr("empty_pcap.pcap"));
+  EXPECT_THAT(e, HasSubstr("holds no UDP datagrams"));
+}
+
 TEST(OusterRecordings, RealFramesLookLikeAScene) {
   // Every recording: no point inside the sensor or above its limits, all rings used, and the
   // ground below the sensor is level.
@@ -1035,9 +1177,18 @@ TEST(OusterRecordings, RealFramesLookLikeAScene) {
     const Eigen::Vector3d normal = svd.matrixV().col(2);
     const double tilt = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / M_PI;
     const double height = -A.col(2).mean();
+    // The sensor model puts every point back on its own beam (the range image's row).
+    DriverOptions o;
+    o.calibration = kOuster + "/" + file.json;
+    const SensorConfig model = make_ouster_scanner(o, {})->sensor();
+    const BeamLookup lookup(model);
+    std::size_t own_row = 0;
+    for (std::size_t i = 0; i < s.size(); ++i) own_row += lookup.row(s.xyz[i]) == s.ring[i] ? 1 : 0;
+    const double own = static_cast<double>(own_row) / static_cast<double>(s.size());
     std::cout << file.pcap << ": " << s.size() << " points, ground " << height
-              << " m below the sensor frame, tilt " << tilt << " deg, " << ground.size()
-              << " ground points\n";
+              << " m below the sensor frame, tilt " << tilt << " deg, " << ground.size() << " ground points, "
+              << 100.0 * own << " % on their own row\n";
+    EXPECT_GT(own, 0.995) << file.pcap;
     EXPECT_LT(tilt, 6.0) << file.pcap;
     EXPECT_GT(height, 0.2) << file.pcap;
     EXPECT_LT(height, 4.0) << file.pcap;

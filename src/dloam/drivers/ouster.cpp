@@ -181,6 +181,8 @@ bool OusterScanner::check(const Packet& p, std::size_t fallback_index) const {
   }
   if ((md_.imu_packet_size > 0 && p.size == static_cast<std::size_t>(md_.imu_packet_size)) || on_imu_port)
     return false;
+  if (md_.imu_packet_size == 0 && p.size > 164 && (p.size - 164) % 36 == 0 && p.size <= 164 + 36 * 1000)
+    return false;
   std::string msg = where + ": a " + std::to_string(p.size) + "-byte packet does not fit " + md_.source +
                     ": " + to_string(format_.profile) + " with " + std::to_string(format_.pixels_per_column) +
                     " pixels and " + std::to_string(format_.columns_per_packet) +
@@ -248,11 +250,18 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
   const ReturnMode mode = options_.scan.returns;
   const std::size_t capacity = static_cast<std::size_t>(frame.valid_columns) * static_cast<std::size_t>(h) *
                                (dual && mode == ReturnMode::kAll ? 2 : 1);
-  s.xyz.reserve(capacity);
-  s.intensity.reserve(capacity);
-  s.ring.reserve(capacity);
-  s.return_id.reserve(capacity);
-  s.stamps.reserve(capacity);
+  // Sized once and cut back at the end: the per-point loop writes through plain pointers.
+  s.xyz.resize(capacity);
+  s.intensity.resize(capacity);
+  s.ring.resize(capacity);
+  s.return_id.resize(capacity);
+  s.stamps.resize(capacity);
+  Vec3* out_xyz = s.xyz.data();
+  float* out_intensity = s.intensity.data();
+  std::uint16_t* out_ring = s.ring.data();
+  std::uint8_t* out_rid = s.return_id.data();
+  double* out_t = s.stamps.data();
+  std::size_t n = 0;
 
   const OusterFieldLayout& range = *format_.field(OusterField::kRange);
   const OusterFieldLayout& refl = *format_.field(OusterField::kReflectivity);
@@ -266,7 +275,9 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
     strength2 = refl2;
   }
   const bool strongest_first = md_.return_order == OusterReturnOrder::kStrongestToWeakest;
-  const double lo = min_mm_, hi = max_mm_;
+  const auto lo = static_cast<std::uint32_t>(std::ceil(min_mm_));
+  const auto hi = max_mm_ >= 4.0e9 ? 0xFFFFFFFFu : static_cast<std::uint32_t>(std::floor(max_mm_));
+  const std::uint16_t* ring_of_row = ring_of_row_.data();
 
   bool first_time = true;
   for (int m = 0; m < w; ++m) {
@@ -277,21 +288,25 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
     s.end = t;
     const std::uint8_t* col = frame.column(m);
     auto emit = [&](int row, std::uint32_t r, std::uint32_t intensity, std::uint8_t rid) {
-      const double rmm = static_cast<double>(r);
-      if (rmm < lo || rmm > hi) return;
-      s.xyz.push_back(lut_.point(row, m, rmm));
-      s.intensity.push_back(static_cast<float>(intensity));
-      s.ring.push_back(ring_of_row_[static_cast<std::size_t>(row)]);
-      s.return_id.push_back(rid);
-      s.stamps.push_back(t);
+      if (r < lo || r > hi) return;
+      out_xyz[n] = lut_.point(row, m, static_cast<double>(r));
+      out_intensity[n] = static_cast<float>(intensity);
+      out_ring[n] = ring_of_row[row];
+      out_rid[n] = rid;
+      out_t[n] = t;
+      ++n;
     };
+    if (!dual) {
+      for (int row = 0; row < h; ++row) {
+        const std::uint8_t* px = format_.pixel(col, row);
+        const std::uint32_t r = range.decode(px);
+        if (r != 0) emit(row, r, refl.decode(px), 0);
+      }
+      continue;
+    }
     for (int row = 0; row < h; ++row) {
       const std::uint8_t* px = format_.pixel(col, row);
       const std::uint32_t r0 = range.decode(px);
-      if (!dual) {
-        if (r0 != 0) emit(row, r0, refl.decode(px), 0);
-        continue;
-      }
       const std::uint32_t r1 = range2->decode(px);
       if (r0 == 0 && r1 == 0) continue;
       const std::uint32_t near = r0 == 0 ? r1 : (r1 == 0 ? r0 : std::min(r0, r1));
@@ -323,6 +338,11 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
       }
     }
   }
+  s.xyz.resize(n);
+  s.intensity.resize(n);
+  s.ring.resize(n);
+  s.return_id.resize(n);
+  s.stamps.resize(n);
   s.first_packet = frame.first_packet;
   s.last_packet = frame.last_packet;
   s.complete = frame.complete;
@@ -348,13 +368,17 @@ SensorConfig OusterScanner::sensor() const {
   s.preset = preset_;
   s.N_scan = md_.pixels_per_column;
   s.Horizon_SCAN = md_.columns_per_frame;
-  std::vector<double> el = md_.beam_altitude_deg;
-  std::sort(el.begin(), el.end());
+  const auto h = static_cast<std::size_t>(md_.pixels_per_column);
+  std::vector<double> el(h), dz(h);
+  for (std::size_t row = 0; row < h; ++row) {
+    el[ring_of_row_[row]] = md_.beam_altitude_deg[row];
+    dz[ring_of_row_[row]] = lut_.row_origin_heights()[row];
+  }
   // Two beams at one elevation (not in any file seen) would break the strictly increasing table.
   for (std::size_t k = 1; k < el.size(); ++k)
     if (el[k] <= el[k - 1]) el[k] = el[k - 1] + 1e-6;
   s.beam_elevations_deg = el;
-  s.beam_vertical_offsets_m.assign(el.size(), lut_.beam_origin_height());
+  s.beam_vertical_offsets_m = dz;
   s.Pit_bottom = el.front();
   s.fov_top = el.back();
   s.min_range = min_mm_ / 1000.0;

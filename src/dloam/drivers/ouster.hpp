@@ -19,12 +19,20 @@
 //   times are used as they are. Otherwise (the internal oscillator counts from power-up) they are
 //   offset by one constant that puts the first lidar packet's last column at that packet's
 //   recording time, re-anchored if they drift more than 1 s apart. So a scan keeps the sensor's
-//   exact column spacing.
-// - CRC-64: checked where the firmware writes it (not LEGACY, not the FuSa header; firmware 3 or
-//   later, or, when the metadata does not give the firmware, if the first lidar packet's CRC
-//   matches). A packet with a bad CRC is dropped and counted (describe(), stats()).
-// - Packets of the IMU (48 B LEGACY IMU packets, or anything on the metadata's IMU port) are
-//   ignored and counted. Any other packet is an error naming it.
+//   exact column spacing. Packets without a recording time (stamp 0) keep the sensor times.
+// - CRC-64: looked for where the firmware may write it (not LEGACY, not the FuSa header, not
+//   firmware 2.x). From the first packet whose stored CRC matches, the stream is known to carry
+//   them and every packet is checked; a packet with a bad CRC is then dropped and counted
+//   (describe(), stats()).
+// - sensor(): the beam table bottom beam first, W columns, the frame rate, the product line's
+//   range limits, and per beam the height from which its cone is seen in the sensor frame (the
+//   lidar's mid-plane above the sensor base, less n cos(azimuth) tan(elevation) for the beam
+//   origin offset n: OusterXyzLut::row_origin_heights), so that BeamLookup puts each point on
+//   its own row.
+// - IMU packets are ignored and counted: 48 B with the LEGACY IMU profile; with
+//   ACCEL32_GYRO32_NMEA, 164 + 36 x imu_measurements_per_packet bytes (any 164 + 36 k when the
+//   metadata does not give the count); and anything on the metadata's IMU port. Any other packet
+//   is an error naming it.
 #pragma once
 
 #include <memory>

@@ -37,6 +37,12 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   // The beam origins lie on a circle of radius n about the lidar axis at height b_z; the
   // sensor frame's z of that circle's centre.
   origin_height_ = (R * Eigen::Vector3d(0.0, 0.0, bz) + t).z() * 1e-3;
+  row_heights_.resize(static_cast<std::size_t>(height_));
+  for (int row = 0; row < height_; ++row) {
+    const double az = md.beam_azimuth_deg[static_cast<std::size_t>(row)] * kDeg;
+    const double alt = md.beam_altitude_deg[static_cast<std::size_t>(row)] * kDeg;
+    row_heights_[static_cast<std::size_t>(row)] = origin_height_ - n * 1e-3 * std::cos(az) * std::tan(alt);
+  }
 }
 
 Vec3 OusterXyzLut::direction(int row, int m) const {

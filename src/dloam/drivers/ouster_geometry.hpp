@@ -34,14 +34,20 @@ class OusterXyzLut {
   /// Unit direction and offset (m) of a pixel in the sensor frame: point = range_m * d + o.
   [[nodiscard]] Vec3 direction(int row, int m) const;
   [[nodiscard]] Vec3 offset(int row, int m) const;
-  /// Height (m) of the beam origins (the lidar's optical mid-plane) above the sensor frame's
-  /// origin at the sensor's base: lidar_to_sensor z + beam_to_lidar z.
+  /// Height (m) of the lidar's optical mid-plane above the sensor frame's origin at the sensor's
+  /// base: lidar_to_sensor z + beam_to_lidar z.
   [[nodiscard]] double beam_origin_height() const { return origin_height_; }
+  /// Per row (Ouster's order): the height (m) on the sensor's axis from which the row's beam
+  /// cone would be seen. A beam leaves from a point n off the axis (beam_to_lidar x), so its
+  /// points lie on z = h_row + rho tan(phi), rho the distance from the axis, with
+  /// h_row = mid-plane height - n cos(beam azimuth) tan(phi) (exact for far points).
+  [[nodiscard]] const std::vector<double>& row_origin_heights() const { return row_heights_; }
 
  private:
   int width_, height_;
   std::vector<double> dir_, off_;  ///< per (m, row): direction in m per mm of range, offset in m
   double origin_height_ = 0.0;
+  std::vector<double> row_heights_;
 };
 
 }  // namespace dloam::drivers

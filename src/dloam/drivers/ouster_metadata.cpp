@@ -418,9 +418,11 @@ OusterMetadata parse_ouster_metadata(const std::string& text, const std::string&
     } else if (p == "ACCEL32_GYRO32_NMEA" || p == "OFF") {
       md.imu_profile_legacy = false;
       md.imu_packet_size = 0;
-      if (const json* n = df_get("imu_measurements_per_packet")) {
-        const long long k = rd.integer(*n, df_key("imu_measurements_per_packet"));
-        if (k > 0 && k < 1000) md.imu_packet_size = static_cast<int>(32 + 100 + 36 * k + 32);
+      if (const json* n = get({"imu_data_format"}, "imu_measurements_per_packet")) {
+        const std::string key = "imu_data_format.imu_measurements_per_packet";
+        const long long k = rd.integer(*n, key);
+        if (k < 1 || k > 1000) rd.fail(key, "must lie in [1, 1000]");
+        md.imu_packet_size = static_cast<int>(32 + 100 + 36 * k + 32);  // header, NMEA block, samples, footer
       }
     } else {
       rd.fail(imu_key, "unknown IMU profile \"" + p + "\"");

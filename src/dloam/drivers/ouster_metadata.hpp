@@ -56,7 +56,9 @@ struct OusterMetadata {
   OusterProfile profile = OusterProfile::kLegacy;
   bool fusa_header = false;        ///< the functional-safety packet header (header_type FUSA)
   bool imu_profile_legacy = true;  ///< udp_profile_imu LEGACY: 48 B IMU packets
-  int imu_packet_size = 48;        ///< 0 when not known (non-legacy IMU without a measurement count)
+  /// 48 for LEGACY; ACCEL32_GYRO32_NMEA: 164 + 36 x imu_data_format.imu_measurements_per_packet,
+  /// 0 when the file does not give the count (then any 164 + 36 k bytes is taken for IMU).
+  int imu_packet_size = 48;
   OusterReturnOrder return_order = OusterReturnOrder::kStrongestToWeakest;
   int udp_port_lidar = 0, udp_port_imu = 0;  ///< 0: not in the file
   double min_range_threshold_m = -1.0;       ///< config_params.min_range_threshold_cm; < 0: absent

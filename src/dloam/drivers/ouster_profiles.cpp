@@ -119,7 +119,16 @@ OusterFieldLayout::OusterFieldLayout(OusterField f, int start, int n, int up, st
   nbytes_ = (shift_ + n + 7) / 8;
   if (nbytes_ > 4 || static_cast<std::size_t>(byte_ + nbytes_) > pixel_size)
     throw std::logic_error("ouster: field outside its pixel");
-  if (static_cast<std::size_t>(byte_ + 4) <= pixel_size) nbytes_ = 4;  // one 32-bit load
+  // One 32-bit load inside the pixel: from the field's first byte, or from the pixel's last
+  // four bytes for a field near its end.
+  if (pixel_size >= 4) {
+    const int excess = byte_ + 4 - static_cast<int>(pixel_size);
+    if (excess > 0) {
+      byte_ -= excess;
+      shift_ += 8 * excess;
+    }
+    nbytes_ = 4;
+  }
   mask_ = n >= 32 ? 0xFFFFFFFFu : ((1u << n) - 1u);
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "dloam/drivers/ouster_metadata.hpp"
@@ -43,9 +44,10 @@ struct OusterFieldLayout {
   [[nodiscard]] std::uint32_t decode(const std::uint8_t* pixel) const {
     std::uint32_t word = 0;
     if (nbytes_ == 4) {
-      word = static_cast<std::uint32_t>(pixel[byte_]) | static_cast<std::uint32_t>(pixel[byte_ + 1]) << 8 |
-             static_cast<std::uint32_t>(pixel[byte_ + 2]) << 16 |
-             static_cast<std::uint32_t>(pixel[byte_ + 3]) << 24;
+      std::memcpy(&word, pixel + byte_, 4);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+      word = __builtin_bswap32(word);
+#endif
     } else {
       for (int i = 0; i < nbytes_; ++i) word |= static_cast<std::uint32_t>(pixel[byte_ + i]) << (8 * i);
     }
