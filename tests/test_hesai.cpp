@@ -880,6 +880,16 @@ TEST(HesaiSensor, ColumnsFromTheAzimuthStepRateFromTheMotor) {
   EXPECT_DOUBLE_EQ(qt.beam_elevations_deg.front(), qt.Pit_bottom);
 }
 
+TEST(HesaiSensor, ConfiguredRangeOutsideTheSensorsIsAnError) {
+  ScannerOptions o;
+  o.min_range = 60.0;  // the QT128 sees up to 50 m
+  EXPECT_THAT([&] { scanner_for(Model::kPandarQT128, o); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("leaves nothing of the PandarQT128")));
+  o.min_range = 5.0;
+  o.max_range = 4.0;
+  EXPECT_THROW(scanner_for(Model::kPandarXT32, o), InputError);
+}
+
 // =============================================================================================
 // Calibration and the factory
 

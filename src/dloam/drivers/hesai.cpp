@@ -86,7 +86,7 @@ struct HesaiScanner::Impl {
   // Capacity reserved for a scan: the most a turn can hold (channels x returns x firings) until a
   // complete scan was seen, then 1/8 above the largest, so that points are not moved as it grows
   // (untouched capacity costs address space only).
-  std::size_t reserve_points = 0, bound_points = 0;
+  std::size_t reserve_points = 0, bound_points = 0, largest_complete = 0;
 
   static hesai::Calibration checked(hesai::Calibration c, Model m) {
     hesai::check_calibration(c, m);
@@ -128,8 +128,10 @@ struct HesaiScanner::Impl {
     sensor_max_f = static_cast<float>(info.max_range_m);
     config_min = scan.min_range > 0.0 ? scan.min_range : -std::numeric_limits<double>::infinity();
     config_max = scan.max_range > 0.0 ? scan.max_range : std::numeric_limits<double>::infinity();
-    if (scan.min_range > 0.0 && scan.max_range > 0.0 && !(scan.max_range > scan.min_range))
-      throw InputError("Hesai: max_range must be above min_range");
+    if (!(std::min(info.max_range_m, config_max) > std::max(info.min_range_m, config_min)))
+      throw InputError("Hesai: the configured range [" + std::to_string(scan.min_range) + ", " +
+                       std::to_string(scan.max_range) + "] m leaves nothing of the " + info.name + "'s [" +
+                       std::to_string(info.min_range_m) + ", " + std::to_string(info.max_range_m) + "] m");
     building[0].complete = building[1].complete = false;
   }
 
@@ -185,9 +187,10 @@ struct HesaiScanner::Impl {
     Building& bl = building[static_cast<std::size_t>(b)];
     if (!bl.scan.xyz.empty()) {
       bl.scan.complete = bl.complete;
-      if (bl.complete)
-        reserve_points =
-            std::min(bound_points, std::max(reserve_points, bl.scan.size() + bl.scan.size() / 8));
+      if (bl.complete) {
+        largest_complete = std::max(largest_complete, bl.scan.size());
+        reserve_points = std::min(bound_points, largest_complete + largest_complete / 8);
+      }
       done.push_back(std::move(bl.scan));
     }
     reset_building(b);
@@ -297,7 +300,8 @@ struct HesaiScanner::Impl {
     last_rpm = v.motor_rpm;
     if (decoded++ == 0 || bound_points < static_cast<std::size_t>(channels * n) * (36000 / step_cdeg() + 1)) {
       bound_points = static_cast<std::size_t>(channels * n) * (36000 / step_cdeg() + 1);
-      reserve_points = std::max(reserve_points, bound_points);
+      reserve_points = largest_complete > 0 ? std::min(bound_points, largest_complete + largest_complete / 8)
+                                            : bound_points;
       for (Building& bl : building) reserve(bl.scan);
     }
     if (options.firing_time_azimuth && v.motor_rpm != angles_rpm) build_angle_tables(v.motor_rpm);
