@@ -1017,7 +1017,8 @@ namespace {
 struct Reference {
   std::string folder;  // under hesai/nebula
   Model model;
-  double min_range, max_range;  // nebula's test configuration
+  double min_range, max_range;           // nebula's test configuration
+  std::vector<std::size_t> per_message;  // points of the scan nebula emits in each message (README)
 };
 
 void check_reference(const Reference& r) {
@@ -1042,15 +1043,19 @@ void check_reference(const Reference& r) {
   ASSERT_EQ(scanner->model(), r.model);
   std::vector<Scan> during;  // scans completed while the reference message was decoded
   std::vector<Scan> done;
+  std::vector<std::size_t> per_message(bag.timestamps.size(), 0);
   for (const BagPacket& p : bag.packets) {
     done.clear();
     scanner->add(
         as_packet(p.bytes, p.stamp,
                   r.folder + ": message " + std::to_string(p.message) + " packet " + std::to_string(p.index)),
         done);
+    for (const Scan& s : done) per_message[p.message] += s.size();
     if (bag.timestamps[p.message] == reference_message)
       for (Scan& s : done) during.push_back(std::move(s));
   }
+  // Every scan, not only the reference one, has nebula's point count.
+  EXPECT_EQ(per_message, r.per_message);
   ASSERT_EQ(during.size(), 1u) << "scans completed during the reference message";
   const Scan& scan = during[0];
   const PointCloud ref = io::read_pcd(pcd);
@@ -1070,13 +1075,28 @@ void check_reference(const Reference& r) {
 }
 }  // namespace
 
-TEST(HesaiReference, Pandar40P) { check_reference({"40p", Model::kPandar40P, 0.3, 200.0}); }
-TEST(HesaiReference, Pandar64) { check_reference({"64", Model::kPandar64, 0.3, 200.0}); }
-TEST(HesaiReference, PandarQT64) { check_reference({"qt64", Model::kPandarQT64, 0.1, 60.0}); }
-TEST(HesaiReference, PandarQT128) { check_reference({"qt128", Model::kPandarQT128, 0.3, 300.0}); }
-TEST(HesaiReference, PandarXT16) { check_reference({"xt16", Model::kPandarXT16, 0.05, 120.0}); }
-TEST(HesaiReference, PandarXT32) { check_reference({"xt32", Model::kPandarXT32, 0.05, 120.0}); }
-TEST(HesaiReference, PandarXT32M) { check_reference({"xt32m", Model::kPandarXT32M, 0.5, 300.0}); }
+// The configurations of nebula's test, and the scans it emits per message (sensors README).
+TEST(HesaiReference, Pandar40P) {
+  check_reference({"40p", Model::kPandar40P, 0.3, 200.0, {152, 56530, 56723, 56762}});
+}
+TEST(HesaiReference, Pandar64) {
+  check_reference({"64", Model::kPandar64, 0.3, 200.0, {244, 93079, 93672, 93591}});
+}
+TEST(HesaiReference, PandarQT64) {
+  check_reference({"qt64", Model::kPandarQT64, 0.1, 60.0, {259, 33940, 34145, 34158}});
+}
+TEST(HesaiReference, PandarQT128) {
+  check_reference({"qt128", Model::kPandarQT128, 0.3, 300.0, {71559, 73560}});
+}
+TEST(HesaiReference, PandarXT16) {
+  check_reference({"xt16", Model::kPandarXT16, 0.05, 120.0, {7905, 26299, 26287, 26252}});
+}
+TEST(HesaiReference, PandarXT32) {
+  check_reference({"xt32", Model::kPandarXT32, 0.05, 120.0, {62826, 63058, 63040, 63021}});
+}
+TEST(HesaiReference, PandarXT32M) {
+  check_reference({"xt32m", Model::kPandarXT32M, 0.5, 300.0, {48009, 12176, 43227, 13574}});
+}
 
 TEST(HesaiReference, Xt32mLostPacketsAreCountedAndItsScansIncomplete) {
   const std::string dir = kHesai + "/xt32m";
