@@ -362,6 +362,45 @@ TEST(HesaiPacket, UnknownProtocolVersionIsAnError) {
   EXPECT_FALSE(looks_like_hesai(as_packet(ouster)));
 }
 
+TEST(HesaiPacket, DamagedPacketsGiveInputErrorsOrFinitePoints) {
+  // Random bytes changed in valid packets, and truncated packets, of every model: each one is
+  // decoded or rejected with an InputError naming it; whatever is decoded is finite.
+  std::mt19937 rng(11);
+  for (const Model m : hesai::all_models()) {
+    auto scanner = scanner_for(m);
+    std::vector<Scan> done;
+    std::size_t errors = 0;
+    for (int k = 0; k < 400; ++k) {
+      Synth s =
+          uniform_packet(m, k % 2 ? 0x39 : 0x37, static_cast<std::uint16_t>((k * 300) % 36000), 20, 12.0);
+      s.sequence = static_cast<std::uint32_t>(k);
+      std::vector<std::uint8_t> bytes = s.bytes();
+      const int changes = static_cast<int>(rng() % 8);
+      for (int c = 0; c < changes; ++c) bytes[rng() % bytes.size()] = static_cast<std::uint8_t>(rng());
+      if (k % 5 == 0) bytes.resize(rng() % bytes.size());
+      const std::string where = "packet " + std::to_string(k);
+      try {
+        scanner->add(as_packet(bytes, 0.0, where), done);
+      } catch (const InputError& e) {
+        ++errors;
+        EXPECT_THAT(e.what(), HasSubstr(where));
+      }
+    }
+    scanner->finish(done);
+    EXPECT_GT(errors, 0u) << hesai::model_name(m);
+    std::size_t points = 0;
+    for (const Scan& scan : done) {
+      points += scan.size();
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        ASSERT_TRUE(scan.xyz[i].allFinite()) << hesai::model_name(m);
+        ASSERT_TRUE(std::isfinite(scan.stamps[i])) << hesai::model_name(m);
+        ASSERT_LT(scan.ring[i], hesai::model_info(m).channels);
+      }
+    }
+    EXPECT_GT(points, 0u) << hesai::model_name(m);
+  }
+}
+
 TEST(HesaiPacket, Crc32Mpeg2MatchesTheBitwiseDefinition) {
   // MSB first, polynomial 0x04C11DB7, initial value all ones, no final xor; check value of
   // "123456789" is 0x0376E6E7.
@@ -880,6 +919,16 @@ TEST(HesaiSensor, ColumnsFromTheAzimuthStepRateFromTheMotor) {
   EXPECT_DOUBLE_EQ(qt.beam_elevations_deg.front(), qt.Pit_bottom);
 }
 
+TEST(HesaiSensor, ConfiguredRangeOutsideTheSensorsIsAnError) {
+  ScannerOptions o;
+  o.min_range = 60.0;  // the QT128 sees up to 50 m
+  EXPECT_THAT([&] { scanner_for(Model::kPandarQT128, o); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("leaves nothing of the PandarQT128")));
+  o.min_range = 5.0;
+  o.max_range = 4.0;
+  EXPECT_THROW(scanner_for(Model::kPandarXT32, o), InputError);
+}
+
 // =============================================================================================
 // Calibration and the factory
 
@@ -1007,7 +1056,8 @@ namespace {
 struct Reference {
   std::string folder;  // under hesai/nebula
   Model model;
-  double min_range, max_range;  // nebula's test configuration
+  double min_range, max_range;           // nebula's test configuration
+  std::vector<std::size_t> per_message;  // points of the scan nebula emits in each message (README)
 };
 
 void check_reference(const Reference& r) {
@@ -1032,15 +1082,19 @@ void check_reference(const Reference& r) {
   ASSERT_EQ(scanner->model(), r.model);
   std::vector<Scan> during;  // scans completed while the reference message was decoded
   std::vector<Scan> done;
+  std::vector<std::size_t> per_message(bag.timestamps.size(), 0);
   for (const BagPacket& p : bag.packets) {
     done.clear();
     scanner->add(
         as_packet(p.bytes, p.stamp,
                   r.folder + ": message " + std::to_string(p.message) + " packet " + std::to_string(p.index)),
         done);
+    for (const Scan& s : done) per_message[p.message] += s.size();
     if (bag.timestamps[p.message] == reference_message)
       for (Scan& s : done) during.push_back(std::move(s));
   }
+  // Every scan, not only the reference one, has nebula's point count.
+  EXPECT_EQ(per_message, r.per_message);
   ASSERT_EQ(during.size(), 1u) << "scans completed during the reference message";
   const Scan& scan = during[0];
   const PointCloud ref = io::read_pcd(pcd);
@@ -1060,13 +1114,28 @@ void check_reference(const Reference& r) {
 }
 }  // namespace
 
-TEST(HesaiReference, Pandar40P) { check_reference({"40p", Model::kPandar40P, 0.3, 200.0}); }
-TEST(HesaiReference, Pandar64) { check_reference({"64", Model::kPandar64, 0.3, 200.0}); }
-TEST(HesaiReference, PandarQT64) { check_reference({"qt64", Model::kPandarQT64, 0.1, 60.0}); }
-TEST(HesaiReference, PandarQT128) { check_reference({"qt128", Model::kPandarQT128, 0.3, 300.0}); }
-TEST(HesaiReference, PandarXT16) { check_reference({"xt16", Model::kPandarXT16, 0.05, 120.0}); }
-TEST(HesaiReference, PandarXT32) { check_reference({"xt32", Model::kPandarXT32, 0.05, 120.0}); }
-TEST(HesaiReference, PandarXT32M) { check_reference({"xt32m", Model::kPandarXT32M, 0.5, 300.0}); }
+// The configurations of nebula's test, and the scans it emits per message (sensors README).
+TEST(HesaiReference, Pandar40P) {
+  check_reference({"40p", Model::kPandar40P, 0.3, 200.0, {152, 56530, 56723, 56762}});
+}
+TEST(HesaiReference, Pandar64) {
+  check_reference({"64", Model::kPandar64, 0.3, 200.0, {244, 93079, 93672, 93591}});
+}
+TEST(HesaiReference, PandarQT64) {
+  check_reference({"qt64", Model::kPandarQT64, 0.1, 60.0, {259, 33940, 34145, 34158}});
+}
+TEST(HesaiReference, PandarQT128) {
+  check_reference({"qt128", Model::kPandarQT128, 0.3, 300.0, {71559, 73560}});
+}
+TEST(HesaiReference, PandarXT16) {
+  check_reference({"xt16", Model::kPandarXT16, 0.05, 120.0, {7905, 26299, 26287, 26252}});
+}
+TEST(HesaiReference, PandarXT32) {
+  check_reference({"xt32", Model::kPandarXT32, 0.05, 120.0, {62826, 63058, 63040, 63021}});
+}
+TEST(HesaiReference, PandarXT32M) {
+  check_reference({"xt32m", Model::kPandarXT32M, 0.5, 300.0, {48009, 12176, 43227, 13574}});
+}
 
 TEST(HesaiReference, Xt32mLostPacketsAreCountedAndItsScansIncomplete) {
   const std::string dir = kHesai + "/xt32m";

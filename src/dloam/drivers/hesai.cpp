@@ -86,7 +86,7 @@ struct HesaiScanner::Impl {
   // Capacity reserved for a scan: the most a turn can hold (channels x returns x firings) until a
   // complete scan was seen, then 1/8 above the largest, so that points are not moved as it grows
   // (untouched capacity costs address space only).
-  std::size_t reserve_points = 0, bound_points = 0;
+  std::size_t reserve_points = 0, bound_points = 0, largest_complete = 0;
 
   static hesai::Calibration checked(hesai::Calibration c, Model m) {
     hesai::check_calibration(c, m);
@@ -128,8 +128,10 @@ struct HesaiScanner::Impl {
     sensor_max_f = static_cast<float>(info.max_range_m);
     config_min = scan.min_range > 0.0 ? scan.min_range : -std::numeric_limits<double>::infinity();
     config_max = scan.max_range > 0.0 ? scan.max_range : std::numeric_limits<double>::infinity();
-    if (scan.min_range > 0.0 && scan.max_range > 0.0 && !(scan.max_range > scan.min_range))
-      throw InputError("Hesai: max_range must be above min_range");
+    if (!(std::min(info.max_range_m, config_max) > std::max(info.min_range_m, config_min)))
+      throw InputError("Hesai: the configured range [" + std::to_string(scan.min_range) + ", " +
+                       std::to_string(scan.max_range) + "] m leaves nothing of the " + info.name + "'s [" +
+                       std::to_string(info.min_range_m) + ", " + std::to_string(info.max_range_m) + "] m");
     building[0].complete = building[1].complete = false;
   }
 
@@ -185,9 +187,10 @@ struct HesaiScanner::Impl {
     Building& bl = building[static_cast<std::size_t>(b)];
     if (!bl.scan.xyz.empty()) {
       bl.scan.complete = bl.complete;
-      if (bl.complete)
-        reserve_points =
-            std::min(bound_points, std::max(reserve_points, bl.scan.size() + bl.scan.size() / 8));
+      if (bl.complete) {
+        largest_complete = std::max(largest_complete, bl.scan.size());
+        reserve_points = std::min(bound_points, largest_complete + largest_complete / 8);
+      }
       done.push_back(std::move(bl.scan));
     }
     reset_building(b);
@@ -297,15 +300,14 @@ struct HesaiScanner::Impl {
     last_rpm = v.motor_rpm;
     if (decoded++ == 0 || bound_points < static_cast<std::size_t>(channels * n) * (36000 / step_cdeg() + 1)) {
       bound_points = static_cast<std::size_t>(channels * n) * (36000 / step_cdeg() + 1);
-      reserve_points = std::max(reserve_points, bound_points);
+      reserve_points = largest_complete > 0 ? std::min(bound_points, largest_complete + largest_complete / 8)
+                                            : bound_points;
       for (Building& bl : building) reserve(bl.scan);
     }
     if (options.firing_time_azimuth && v.motor_rpm != angles_rpm) build_angle_tables(v.motor_rpm);
 
     if (v.dis_unit_mm != raw_limits_mm) set_raw_limits(v);
     const double packet_time = v.sensor_time + clock.update(packet.stamp, v.sensor_time);
-    const double du = v.dis_unit_m;
-    const double separation = options.multi_return_separation_m;
     const ReturnMode want = scan_options.returns;
     for (int g = 0; g < groups; ++g) {
       const int b0 = g * n;
@@ -336,72 +338,118 @@ struct HesaiScanner::Impl {
         touch(cut.buffer(0), index, t_group + fire_min[s], t_group + fire_max[s]);
       }
       const double azimuth = raw_azimuth * (M_PI / 18000.0);
-      const double sa = std::sin(azimuth), ca = std::cos(azimuth);
-      const double* oc = off_cos[s].data();
-      const double* os = off_sin[s].data();
-      const double* fs = fire_s[s].data();
+      Firing f;
+      f.sa = std::sin(azimuth);
+      f.ca = std::cos(azimuth);
+      f.t = t_group;
+      f.oc = off_cos[s].data();
+      f.os = off_sin[s].data();
+      f.fs = fire_s[s].data();
+      decode_firing(v, b0, f, want);
+    }
+  }
 
-      std::uint16_t raw[3];
-      std::uint8_t refl[3];
-      bool ok[3];
-      auto dist = [&](int k) { return static_cast<float>(raw[k] * du); };
-      for (int c = 0; c < channels; ++c) {
-        bool any = false;
-        for (int k = 0; k < n; ++k) {
-          const std::uint8_t* u = v.unit(b0 + k, c);
-          raw[k] = static_cast<std::uint16_t>(u[0] | (u[1] << 8));
-          refl[k] = u[2];
-          ok[k] = raw[k] >= raw_lo && raw[k] <= raw_hi;
-          any = any || ok[k];
-        }
-        if (!any) continue;
-        Scan& out = building[cut.buffer(c)].scan;
-        const auto cc = static_cast<std::size_t>(c);
-        auto push = [&](int k) {
-          const double d = raw[k] * du;
-          const double xy = d * cos_el[cc];
-          const double sin_az = sa * oc[cc] + ca * os[cc];
-          const double cos_az = ca * oc[cc] - sa * os[cc];
-          out.xyz.emplace_back(xy * cos_az, -xy * sin_az, d * sin_el[cc]);
-          out.intensity.push_back(refl[k]);
-          out.ring.push_back(ring[cc]);
-          out.return_id.push_back(static_cast<std::uint8_t>(k));
-          out.stamps.push_back(t_group + fs[cc]);
-        };
-        if (n == 1) {
-          if (ok[0]) push(0);
-          continue;
-        }
-        if (want == ReturnMode::kAll) {
-          for (int k = 0; k < n; ++k) {
-            if (!ok[k]) continue;
-            bool drop = false;
-            if (k != n - 1) {
-              for (int j = 0; j < n && !drop; ++j) {
-                if (j == k) continue;
-                drop = (raw[j] == raw[k] && refl[j] == refl[k]) ||
-                       static_cast<double>(std::fabs(dist(j) - dist(k))) < separation;
-              }
-            }
-            if (!drop) push(k);
-          }
-          continue;
-        }
-        int pick = want == ReturnMode::kFirst  ? v.layout.first
-                   : want == ReturnMode::kLast ? v.layout.last
-                                               : v.layout.strongest;
-        if (pick == -2) pick = refl[0] >= refl[1] ? 0 : 1;
-        if (pick == -1) {  // not in this mode: nearest / farthest / most reflective valid return
-          for (int k = 0; k < n; ++k) {
-            if (!ok[k]) continue;
-            const bool better = pick < 0 || (want == ReturnMode::kFirst  ? raw[k] < raw[pick]
-                                             : want == ReturnMode::kLast ? raw[k] > raw[pick]
-                                                                         : refl[k] > refl[pick]);
-            if (better) pick = k;
-          }
-        }
-        if (pick >= 0 && ok[pick]) push(pick);
+  // Geometry and time of one firing, shared by its channels.
+  struct Firing {
+    double sa, ca;          ///< sin / cos of the block azimuth
+    double t;               ///< time of the block group
+    const double *oc, *os;  ///< cos / sin of each channel's azimuth offset
+    const double* fs;       ///< each channel's firing offset (s)
+  };
+
+  void push(Scan& out, const Firing& f, std::size_t c, unsigned raw, double du, std::uint8_t refl,
+            int k) const {
+    const double d = raw * du;
+    const double xy = d * cos_el[c];
+    const double sin_az = f.sa * f.oc[c] + f.ca * f.os[c];
+    const double cos_az = f.ca * f.oc[c] - f.sa * f.os[c];
+    out.xyz.emplace_back(xy * cos_az, -xy * sin_az, d * sin_el[c]);
+    out.stamps.push_back(f.t + f.fs[c]);
+    out.intensity.push_back(refl);
+    out.ring.push_back(ring[c]);
+    out.return_id.push_back(static_cast<std::uint8_t>(k));
+  }
+
+  // The returns of every channel of the firing in blocks b0 .. b0 + returns - 1.
+  void decode_firing(const PacketView& v, int b0, const Firing& f, ReturnMode want) {
+    if (raw_hi < raw_lo) return;  // no distance is in range
+    const int n = v.layout.returns;
+    const double du = v.dis_unit_m;
+    const double separation = options.multi_return_separation_m;
+    const std::uint8_t* u0 = v.unit(b0, 0);
+    const std::size_t unit = v.unit_size, block = v.block_stride;
+    const auto lo = static_cast<unsigned>(raw_lo), span = static_cast<unsigned>(raw_hi - raw_lo);
+    auto in_range = [lo, span](unsigned raw) { return raw - lo <= span; };  // wraps below lo
+    auto raw_at = [](const std::uint8_t* u) { return static_cast<unsigned>(u[0] | (u[1] << 8)); };
+    const auto nc = static_cast<std::size_t>(channels);
+    if (n == 1) {
+      for (std::size_t c = 0; c < nc; ++c) {
+        const std::uint8_t* u = u0 + unit * c;
+        const unsigned r = raw_at(u);
+        if (in_range(r)) push(building[cut.buffer(static_cast<int>(c))].scan, f, c, r, du, u[2], 0);
       }
+      return;
+    }
+    if (n == 2 && want == ReturnMode::kAll) {
+      for (std::size_t c = 0; c < nc; ++c) {
+        const std::uint8_t* u = u0 + unit * c;
+        const unsigned r0 = raw_at(u), r1 = raw_at(u + block);
+        const bool ok0 = in_range(r0), ok1 = in_range(r1);
+        if (!ok0 && !ok1) continue;
+        Scan& out = building[cut.buffer(static_cast<int>(c))].scan;
+        // Block 0 is not the group's last: dropped when identical to or near block 1.
+        if (ok0 && !(r0 == r1 && u[2] == u[block + 2]) &&
+            !(static_cast<double>(std::fabs(static_cast<float>(r1 * du) - static_cast<float>(r0 * du))) <
+              separation))
+          push(out, f, c, r0, du, u[2], 0);
+        if (ok1) push(out, f, c, r1, du, u[block + 2], 1);
+      }
+      return;
+    }
+    unsigned raw[3];
+    std::uint8_t refl[3];
+    bool ok[3];
+    auto dist = [&](int k) { return static_cast<float>(raw[k] * du); };
+    for (std::size_t c = 0; c < nc; ++c) {
+      bool any = false;
+      for (int k = 0; k < n; ++k) {
+        const std::uint8_t* u = u0 + unit * c + block * static_cast<std::size_t>(k);
+        raw[k] = raw_at(u);
+        refl[k] = u[2];
+        ok[k] = in_range(raw[k]);
+        any = any || ok[k];
+      }
+      if (!any) continue;
+      Scan& out = building[cut.buffer(static_cast<int>(c))].scan;
+      if (want == ReturnMode::kAll) {
+        for (int k = 0; k < n; ++k) {
+          if (!ok[k]) continue;
+          bool drop = false;
+          if (k != n - 1) {
+            for (int j = 0; j < n && !drop; ++j) {
+              if (j == k) continue;
+              drop = (raw[j] == raw[k] && refl[j] == refl[k]) ||
+                     static_cast<double>(std::fabs(dist(j) - dist(k))) < separation;
+            }
+          }
+          if (!drop) push(out, f, c, raw[k], du, refl[k], k);
+        }
+        continue;
+      }
+      int pick = want == ReturnMode::kFirst  ? v.layout.first
+                 : want == ReturnMode::kLast ? v.layout.last
+                                             : v.layout.strongest;
+      if (pick == -2) pick = refl[0] >= refl[1] ? 0 : 1;
+      if (pick == -1) {  // not in this mode: nearest / farthest / most reflective valid return
+        for (int k = 0; k < n; ++k) {
+          if (!ok[k]) continue;
+          const bool better = pick < 0 || (want == ReturnMode::kFirst  ? raw[k] < raw[pick]
+                                           : want == ReturnMode::kLast ? raw[k] > raw[pick]
+                                                                       : refl[k] > refl[pick]);
+          if (better) pick = k;
+        }
+      }
+      if (pick >= 0 && ok[pick]) push(out, f, c, raw[pick], du, refl[pick], pick);
     }
   }
 };
