@@ -13,23 +13,38 @@
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/sequence_check.hpp"
+#include "input_args.hpp"
 
 namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, topic, preset, config_path, write_sensor;
+  std::string dir, preset, config_path, write_sensor;
+  InputArgs input;
 };
 
 std::string yes_no(bool present) { return present ? "yes" : "no"; }
 
 void print_summary(const io::SequenceReport& r, const std::string& preset) {
   fmt::print("sequence      {}\n", r.dir);
-  if (r.source.empty())
+  if (r.scan_format.empty())
+    fmt::print("scans         none (the input could not be opened)\n");
+  else if (r.source.empty())
     fmt::print("scans         {} {} files, {} readable\n", r.scans, r.scan_format, r.scans_ok);
+  else if (r.recording_sensor)
+    fmt::print("scans         {} decoded from raw packets, {} readable\nsource        {}\n", r.scans,
+               r.scans_ok, r.source);
   else
     fmt::print("scans         {} {} messages, {} readable\nsource        {}\n", r.scans, r.scan_format,
                r.scans_ok, r.source);
+  if (r.recording_sensor) {
+    const SensorConfig& s = *r.recording_sensor;
+    fmt::print(
+        "sensor model  {} from the recording: {} beams ({:.1f} .. {:.1f} deg), {} columns, {:.2f} Hz, "
+        "{:.2f} .. {:.1f} m (used by `dloam run` without --preset)\n",
+        s.preset, s.N_scan, s.beam_elevation_deg(0), s.beam_elevation_deg(s.N_scan - 1), s.Horizon_SCAN,
+        s.scan_rate_hz, s.min_range, s.max_range);
+  }
   if (r.scans_ok > 0) {
     fmt::print("points/scan   min {}  mean {:.0f}  max {}\n", r.min_points, r.mean_points, r.max_points);
     fmt::print("point times   {}\n", r.points_with_time == r.scans_ok ? "per-point time channel in every scan"
@@ -85,7 +100,7 @@ void run_check(const CheckArgs& a) {
         fmt::print(stderr, "problem: {}\n", problem);
         std::fflush(stderr);
       },
-      a.topic, estimation);
+      to_input_options(apply_input_args(InputConfig{}, a.input)), estimation);
   print_summary(report, a.preset);
   if (!a.write_sensor.empty()) {
     if (!report.sensor) throw InputError(a.dir + ": no sensor model to write: " + report.sensor_error);
@@ -111,9 +126,10 @@ void register_check(CLI::App& app) {
   cmd->add_option(
          "sequence", args->dir,
          "folder with velodyne/*.bin (KITTI) or *.pcd scans; optional labels/, poses.txt, calib.txt, "
-         "times.txt; or a rosbag (.bag) of sensor_msgs/PointCloud2")
+         "times.txt; a bag (.bag, .db3, .mcap, rosbag2 folder) of PointCloud2 or raw packets; a capture "
+         "(.pcap, .pcapng)")
       ->required();
-  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
+  add_input_options(cmd, args->input);
   cmd->add_option(
       "--preset", args->preset,
       "sensor you expect (" + sensor_preset_list() + "): warns if the data's beams differ from it");
@@ -134,7 +150,9 @@ void register_check(CLI::App& app) {
       "  dloam check recordings/campus_pcd --preset VLP-16\n"
       "  dloam check recordings/wide_pcd --write-sensor wide.yaml && dloam run recordings/wide_pcd --config "
       "wide.yaml --out out\n"
-      "  dloam check drive.bag --topic /velodyne_points");
+      "  dloam check drive.bag --topic /velodyne_points\n"
+      "  dloam check vlp16.pcap\n"
+      "  dloam check os1.pcap --metadata os1.json");
   cmd->callback([args] { run_check(*args); });
 }
 

@@ -24,6 +24,7 @@
 #include "dloam/io/sensor_estimate.hpp"
 #include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
+#include "input_args.hpp"
 #include "progress.hpp"
 #include "report.hpp"
 
@@ -34,7 +35,8 @@ namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
 
 struct RunArgs {
-  std::string sequence, topic, out, config_path, preset, detector, deskew;
+  std::string sequence, out, config_path, preset, detector, deskew;
+  InputArgs input;
   std::vector<double> lengths;
   long first = 0, count = -1;
   bool drop_moving = false;
@@ -220,12 +222,27 @@ PipelineConfig estimate_sensor(const RunArgs& a, const PipelineConfig& cfg, cons
   const SensorModelEstimate est = io::estimate_sequence_sensor(seq, indices, estimation);
   fmt::print("sensor auto: estimated from scans {} .. {}:\n", indices.front(), indices.back());
   for (const auto& line : io::describe_estimate(est)) fmt::print("  {}\n", line);
-  return make_config(a, &est.sensor);
+  PipelineConfig out = make_config(a, &est.sensor);
+  out.input = cfg.input;
+  return out;
+}
+
+/// The sensor model of a raw-packet recording replaces the default one when neither --preset nor
+/// the config file's sensor section chose one.
+void take_recording_sensor(PipelineConfig& cfg, const io::Sequence& seq, const RunArgs& a) {
+  if (!seq.sensor || !a.preset.empty() || io::config_file_sets(a.config_path, "sensor")) return;
+  cfg.sensor = *seq.sensor;
+  io::validate_config(cfg, "the sensor model of " + a.sequence);
+  fmt::print("sensor model from the recording: {} ({} beams, {} columns, {:.1f} Hz, {:.1f} .. {:.1f} m)\n",
+             cfg.sensor.preset, cfg.sensor.N_scan, cfg.sensor.Horizon_SCAN, cfg.sensor.scan_rate_hz,
+             cfg.sensor.min_range, cfg.sensor.max_range);
 }
 
 void run(const RunArgs& a) {
   PipelineConfig cfg = make_config(a);
-  const io::Sequence seq = io::open_sequence(a.sequence, a.topic);
+  cfg.input = apply_input_args(cfg.input, a.input);
+  const io::Sequence seq = io::open_sequence(a.sequence, to_input_options(cfg.input));
+  take_recording_sensor(cfg, seq, a);
   const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
   if (first >= seq.size())
     throw InputError(
@@ -308,7 +325,10 @@ void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run the SLAM pipeline on a sequence folder");
   cmd->footer(
       "Input: a KITTI / SemanticKITTI sequence folder (velodyne/*.bin, optional labels/, poses.txt,\n"
-      "calib.txt, times.txt), a folder of PCD files, or a rosbag of sensor_msgs/PointCloud2 (--topic).\n"
+      "calib.txt, times.txt), a folder of PCD files, a ROS 1 bag of sensor_msgs/PointCloud2, a ROS 2 bag\n"
+      "(rosbag2 folder, .db3, .mcap) of PointCloud2 or raw packets, or a pcap / pcapng capture. Raw\n"
+      "packets (Velodyne, Ouster, Hesai) give the sensor model unless --preset or the config's sensor:\n"
+      "section sets one.\n"
       "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
       "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
       "metrics.json (when the folder has poses.txt).\n"
@@ -317,11 +337,15 @@ void register_run(CLI::App& app) {
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
       "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16\n"
-      "  dloam run my_pcds --out out/mine --preset auto      # sensor model estimated from the first scans");
-  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder, or a rosbag (.bag)")
+      "  dloam run my_pcds --out out/mine --preset auto      # sensor model estimated from the first scans\n"
+      "  dloam run vlp16.pcap --out out/vlp16\n"
+      "  dloam run os1.pcap --metadata os1.json --returns strongest --out out/os1\n"
+      "  dloam run drive_bag/ --topic /points --out out/drive   # rosbag2 folder (.db3 or .mcap inside)");
+  cmd->add_option("SEQUENCE_DIR", args->sequence,
+                  "sequence folder, bag (.bag, .db3, .mcap, rosbag2 folder) or capture (.pcap, .pcapng)")
       ->required()
       ->check(CLI::ExistingPath);
-  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
+  add_input_options(cmd, args->input);
   cmd->add_option("--out,-o", args->out, "output folder")->required();
   cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
       ->check(CLI::ExistingFile);

@@ -26,6 +26,22 @@ inline Range within(double lo, double hi) { return {lo, hi, false, false}; }
 using Choices = std::vector<std::string>;
 
 template <class V>
+void visit(InputConfig& c, V& v) {
+  v("topic", c.topic, "bag topic; empty: the only PointCloud2 topic, else the only raw-packet topic",
+    Choices{});
+  v("calibration", c.calibration,
+    "Velodyne calibration YAML / Hesai angle CSV; empty: the model's nominal table", Choices{});
+  v("metadata", c.metadata,
+    "Ouster sensor metadata JSON; empty: the .json of the same name beside the recording", Choices{});
+  v("returns", c.returns, "returns kept from multi-return packets: strongest | last | first | all",
+    Choices{"strongest", "last", "first", "all"});
+  v("cut_azimuth_deg", c.cut_azimuth_deg,
+    "a scan ends where the azimuth crosses this angle (deg, sensor's own)", Range{0, 360, false, true});
+  v("port", c.port, "pcap: UDP destination port of the data; 0: the port of the first data packet",
+    within(0, 65535));
+}
+
+template <class V>
 void visit(SensorConfig& c, V& v) {
   v("preset", c.preset,
     "built-in model (dloam config presets), custom (these keys alone) or auto (estimated from the data)",
@@ -177,6 +193,7 @@ void visit(MappingConfig& c, V& v) {
 /// Top level: one group per module, then the shared thread count.
 template <class V>
 void visit(PipelineConfig& c, V& v) {
+  v.group("input", c.input, "recordings (pcap, ROS 2 / ROS 1 bags): topic, calibration, returns");
   v.group("sensor", c.sensor, "LiDAR model: range-image projection (eqs. 4-6)");
   v.group("segmentation", c.segmentation, "III.C ground extraction (eq. 7) and clustering");
   v.group("preregistration", c.preregistration, "III.D.1 PCA pole/plane pre-registration (eqs. 8-11)");

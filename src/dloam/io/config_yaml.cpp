@@ -252,6 +252,16 @@ PipelineConfig config_from(const std::string& preset, const std::string& yaml_pa
   return config_with(preset, yaml_path, &estimated);
 }
 
+bool config_file_sets(const std::string& yaml_path, const std::string& section) {
+  if (yaml_path.empty()) return false;
+  try {
+    const YAML::Node root = YAML::Load(read_file(yaml_path));
+    return root && root.IsMap() && root[section];
+  } catch (const YAML::Exception&) {
+    return false;  // load_config() reports the syntax error
+  }
+}
+
 void validate_config(const PipelineConfig& config, const std::string& source) {
   PipelineConfig c = config;  // visit() takes non-const references
   Validator validator{source, ""};

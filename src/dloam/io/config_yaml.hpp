@@ -43,6 +43,9 @@ PipelineConfig config_from(const std::string& preset, const std::string& yaml_pa
 PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source = "<yaml>",
                                        const PipelineConfig& base = default_config());
 
+/// True when the YAML file has a top-level `section` key (e.g. "sensor"); false for an empty path.
+bool config_file_sets(const std::string& yaml_path, const std::string& section);
+
 /// Range / choice / consistency checks of every field (the limits of config_schema.hpp and
 /// SensorConfig::validate()); throws InputError "<source>: <key path> ...".
 void validate_config(const PipelineConfig& config, const std::string& source = "config");

@@ -69,13 +69,14 @@ struct ScanStats {
   }
 };
 
-/// A sequence stored in one file (rosbag): every scan read through its source, stamps as times.
-void check_file_sequence(const std::string& path, const std::string& topic, SequenceReport& r, Checker& c,
+/// A recording (bag, capture): every scan read through its source, stamps as times.
+void check_file_sequence(const std::string& path, const InputOptions& input, SequenceReport& r, Checker& c,
                          const SensorEstimationConfig& estimation) {
   Sequence seq;
-  if (!c.attempt([&] { seq = open_sequence(path, topic); })) return;
+  if (!c.attempt([&] { seq = open_sequence(path, input); })) return;
   r.scans = seq.size();
-  r.scan_format = "PointCloud2";
+  r.scan_format = seq.sensor ? "decoded" : "PointCloud2";
+  r.recording_sensor = seq.sensor;
   ScanStats stats(seq.size());
   for (std::size_t i = 0; i < seq.size(); ++i) c.attempt([&] { stats.add(i, seq.read_scan(i), r); });
   stats.finish(r);
@@ -178,12 +179,19 @@ void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c,
 SequenceReport check_sequence(const std::string& dir,
                               const std::function<void(const std::string&)>& on_problem,
                               const std::string& topic, const SensorEstimationConfig& estimation) {
+  InputOptions input;
+  input.topic = topic;
+  return check_sequence(dir, on_problem, input, estimation);
+}
+
+SequenceReport check_sequence(const std::string& dir,
+                              const std::function<void(const std::string&)>& on_problem,
+                              const InputOptions& input, const SensorEstimationConfig& estimation) {
   SequenceReport report;
   report.dir = dir;
   Checker checker{report, on_problem};
-  std::error_code ec;
-  if (fs::is_regular_file(dir, ec) || !topic.empty()) {
-    check_file_sequence(dir, topic, report, checker, estimation);
+  if (is_recording(dir) || !input.topic.empty()) {
+    check_file_sequence(dir, input, report, checker, estimation);
     return report;
   }
   SequenceFiles files;

@@ -9,14 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "dloam/io/kitti.hpp"
 #include "dloam/io/sensor_estimate.hpp"
 
 namespace dloam::io {
 
 struct SequenceReport {
   std::string dir;
-  std::string scan_format;  ///< "KITTI .bin" or "PCD", or "PointCloud2" (rosbag)
-  std::string source;       ///< single-file sequences (rosbag): ScanSource::describe()
+  std::string scan_format;  ///< "KITTI .bin" or "PCD", "PointCloud2" (bags) or "decoded" (raw packets)
+  std::string source;       ///< recordings (bags, captures): ScanSource::describe()
+  std::optional<SensorConfig> recording_sensor;  ///< the sensor model a raw-packet recording gives
   std::size_t scans = 0, scans_ok = 0;
   std::size_t min_points = 0, max_points = 0;
   double mean_points = 0.0;
@@ -42,5 +44,9 @@ struct SequenceReport {
 SequenceReport check_sequence(const std::string& dir,
                               const std::function<void(const std::string&)>& on_problem = {},
                               const std::string& topic = {}, const SensorEstimationConfig& estimation = {});
+/// Same for a recording read with `input` (topic, calibration, port ...).
+SequenceReport check_sequence(const std::string& dir,
+                              const std::function<void(const std::string&)>& on_problem,
+                              const InputOptions& input, const SensorEstimationConfig& estimation = {});
 
 }  // namespace dloam::io

@@ -16,6 +16,8 @@
 namespace dloam {
 
 namespace {
+/// Relative difference between a scan interval and the sweep duration below which they are equal.
+constexpr double kStampJitter = 1e-4;
 /// A probe pixel fits the previous scan when its range lies this close to the previous ranges (m).
 constexpr double kProbeInlier = 0.2;
 /// Pixels of the range image per probe pixel sampled (before keeping cluster pixels only).
@@ -86,6 +88,10 @@ ScanInterval Pipeline::interval_of(const PointCloud& cloud, ScanResult& out) {
     if (!(interval.dt > 0.0))
       throw InputError("scan " + std::to_string(count_) + ": its time (" + std::to_string(*cloud.stamp) +
                        " s) is not after the previous scan's (" + std::to_string(*last_stamp_) + " s)");
+    // Recorders stamp with jitter (and a stamp stored as seconds since the epoch keeps only a
+    // fraction of a microsecond): an interval within kStampJitter of one sweep is one sweep, so a
+    // drive gives the same poses from a folder with times.txt and from a bag of the same scans.
+    if (std::abs(interval.dt - interval.sweep) < kStampJitter * interval.sweep) interval.dt = interval.sweep;
   }
   if (cloud.stamp) last_stamp_ = cloud.stamp;
   if (count_ > 0) {
