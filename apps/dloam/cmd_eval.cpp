@@ -10,11 +10,15 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "dloam/core/preprocess.hpp"
+#include "dloam/eval/map_metrics.hpp"
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/eval/odometry_metrics.hpp"
 #include "dloam/eval/plot.hpp"
 #include "dloam/io/atomic_file.hpp"
+#include "dloam/io/config_yaml.hpp"
 #include "dloam/io/kitti.hpp"
+#include "dloam/io/ply.hpp"
 #include "gnuplot.hpp"
 #include "report.hpp"
 
@@ -28,6 +32,11 @@ struct OdometryArgs {
   std::string gt, est, calib, format = "kitti", json_path, plot_path;
   std::vector<double> lengths;
   std::size_t step = 10;
+};
+
+struct MapArgs {
+  std::string map, sequence, poses, config_path, json_path;
+  eval::MapAccuracyConfig eval;
 };
 
 struct MosArgs {
@@ -125,33 +134,62 @@ void run_mos(const MosArgs& args) {
     const auto pred = io::read_labels(pred_file.string(), gt.size());
     eval::add_scan(r, gt, pred, args.object_threshold);
   }
-  const auto& p = r.points;
-  const auto& o = r.objects;
-  fmt::print("MOS: {} scans, {} points ({} ignored: ground truth unlabeled/outlier)\n", r.scans,
-             p.tp + p.fp + p.fn + p.tn + p.ignored, p.ignored);
-  fmt::print("  points   IoU {:.4f}  precision {:.4f}  recall {:.4f}  static IoU {:.4f}\n", p.iou(),
-             p.precision(), p.recall(), p.static_iou());
-  fmt::print("           TP {}  FP {}  FN {}  TN {}\n", p.tp, p.fp, p.fn, p.tn);
-  fmt::print("  objects  IoU {:.4f}  TP {}  FP {}  FN {}  (detected: > {:g} % of points predicted moving)\n",
-             o.iou(), o.tp, o.fp, o.fn, 100.0 * args.object_threshold);
+  print_mos(r, args.object_threshold);
   if (!args.json_path.empty()) {
-    write_json(args.json_path, {{"gt_dir", args.gt_dir},
-                                {"pred_dir", args.pred_dir},
-                                {"scans", r.scans},
-                                {"iou", p.iou()},
-                                {"precision", p.precision()},
-                                {"recall", p.recall()},
-                                {"static_iou", p.static_iou()},
-                                {"tp", p.tp},
-                                {"fp", p.fp},
-                                {"fn", p.fn},
-                                {"tn", p.tn},
-                                {"ignored", p.ignored},
-                                {"object_iou", o.iou()},
-                                {"object_tp", o.tp},
-                                {"object_fp", o.fp},
-                                {"object_fn", o.fn},
-                                {"object_threshold", args.object_threshold}});
+    json doc = mos_json(r, args.object_threshold);
+    doc["gt_dir"] = args.gt_dir;
+    doc["pred_dir"] = args.pred_dir;
+    write_json(args.json_path, doc);
+  }
+}
+
+void run_map(const MapArgs& args) {
+  const io::PlyCloud map = io::read_ply(args.map);
+  const io::Sequence seq = io::open_sequence(args.sequence);
+  if (!seq.has_labels()) throw InputError(args.sequence + ": no ground-truth labels (labels/*.label)");
+  std::vector<Pose> poses = io::read_kitti_poses(args.poses);
+  if (poses.empty()) throw InputError(args.poses + ": no poses");
+  if (poses.size() > seq.size())
+    throw InputError(
+        fmt::format("{}: {} poses but {} has {} scans", args.poses, poses.size(), args.sequence, seq.size()));
+  if (seq.calib && seq.calib->has_Tr) poses = io::camera_to_lidar(poses, seq.calib->Tr);
+  // The points as the pipeline maps them: the sensor's vertical-angle correction applied.
+  const double correction = args.config_path.empty()
+                                ? 0.0
+                                : io::config_from("", args.config_path).sensor.vertical_angle_correction_deg;
+  eval::MapAccuracyEvaluator evaluator(args.eval);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    PointCloud cloud = seq.read_scan(i);
+    correct_vertical_angle(cloud.xyz, correction);
+    evaluator.add_scan(cloud.xyz, seq.read_scan_labels(i, cloud.size()), poses[i]);
+  }
+  const eval::MapAccuracy r = evaluator.evaluate(map.cloud.xyz);
+  fmt::print("map {}: {} points; reference: {} voxels of {:g} m from {} scans (points within {:g} m)\n",
+             args.map, r.map_points, evaluator.reference_voxels(), args.eval.leaf, poses.size(),
+             args.eval.max_range);
+  fmt::print(
+      "  SA {:.4f} ({} of {} static voxels kept)  DA {:.4f} ({} of {} dynamic voxels kept)  score {:.4f}\n",
+      r.sa(), r.static_kept, r.static_voxels, r.da(), r.dynamic_kept, r.dynamic_voxels, r.score());
+  fmt::print("  map points: {} static, {} dynamic (ghosts), {} with no labelled point within {:g} m\n",
+             r.map_static, r.map_dynamic, r.map_unmatched, args.eval.radius);
+  if (!args.json_path.empty()) {
+    write_json(args.json_path, {{"map", args.map},
+                                {"sequence", args.sequence},
+                                {"poses", args.poses},
+                                {"leaf", args.eval.leaf},
+                                {"radius", args.eval.radius},
+                                {"max_range", args.eval.max_range},
+                                {"sa", r.sa()},
+                                {"da", r.da()},
+                                {"score", r.score()},
+                                {"static_voxels", r.static_voxels},
+                                {"static_kept", r.static_kept},
+                                {"dynamic_voxels", r.dynamic_voxels},
+                                {"dynamic_kept", r.dynamic_kept},
+                                {"map_points", r.map_points},
+                                {"map_static", r.map_static},
+                                {"map_dynamic", r.map_dynamic},
+                                {"map_unmatched", r.map_unmatched}});
   }
 }
 
@@ -166,6 +204,7 @@ void register_eval(CLI::App& app) {
       "  dloam eval odometry GT/poses.txt out/poses.txt --calib GT/calib.txt --lengths 5,10,20,30\n"
       "  dloam eval odometry GT/poses.txt out/poses.txt --json odo.json --plot odo.png\n"
       "  dloam eval mos GT/labels out/labels --json mos.json --object-threshold 0.5\n"
+      "  dloam eval map out/clean/map.ply GT out/poses.txt --json map.json\n"
       "Without --lengths: the KITTI devkit protocol, 100,200,...,800 m segments from every 10th frame.");
 
   auto odo = std::make_shared<OdometryArgs>();
@@ -210,6 +249,32 @@ void register_eval(CLI::App& app) {
           "in [0,1)"))
       ->capture_default_str();
   m->callback([mos] { run_mos(*mos); });
+
+  auto map = std::make_shared<MapArgs>();
+  auto* mp = cmd->add_subcommand(
+      "map", "Static-map accuracy (DynamicMap benchmark style): SA, DA and their geometric mean");
+  mp->footer(
+      "The reference: every labelled point of SEQUENCE (labels/) placed with POSES (KITTI format, the frame "
+      "of\n"
+      "the sequence's poses.txt), in voxels of --leaf, dynamic where most points are moving. Each map point "
+      "takes\n"
+      "the nearest reference voxel within --radius. SA = static voxels kept, DA = dynamic voxels left out.\n"
+      "Give the poses the map was built with (a run's poses.txt) so that map and reference line up.\n"
+      "  dloam eval map out/0005/clean/map.ply ../shared/data/kitti-raw-0005 out/0005/poses.txt \\\n"
+      "      --config config/kitti-raw.yaml --json map.json");
+  mp->add_option("MAP", map->map, "map PLY (x y z)")->required()->check(CLI::ExistingFile);
+  mp->add_option("SEQUENCE", map->sequence, "sequence folder with labels/")
+      ->required()
+      ->check(CLI::ExistingPath);
+  mp->add_option("POSES", map->poses, "poses of the scans (KITTI)")->required()->check(CLI::ExistingFile);
+  mp->add_option("--config,-c", map->config_path, "config whose sensor.vertical_angle_correction_deg applies")
+      ->check(CLI::ExistingFile);
+  mp->add_option("--leaf", map->eval.leaf, "reference voxel size (m)")->capture_default_str();
+  mp->add_option("--radius", map->eval.radius, "match radius (m), at most --leaf")->capture_default_str();
+  mp->add_option("--max-range", map->eval.max_range, "reference points within this of their scan (m)")
+      ->capture_default_str();
+  mp->add_option("--json", map->json_path, "write the results as JSON");
+  mp->callback([map] { run_map(*map); });
 }
 
 }  // namespace dloam::app

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "clean_pass.hpp"
 #include "commands.hpp"
 #include "dloam/core/preprocess.hpp"
 #include "dloam/core/range_image.hpp"
@@ -40,6 +41,7 @@ struct RunArgs {
   std::vector<double> lengths;
   long first = 0, count = -1;
   bool drop_moving = false;
+  bool clean = false;
 };
 
 /// The preset is the starting point; the file's keys override it (as `dloam config dump`). A
@@ -316,6 +318,10 @@ void run(const RunArgs& a) {
   if (seq.has_labels() && !results.empty()) label_stats.write(a.out + "/metrics.json");
   merge_tracking_summary(a.out + "/metrics.json", results);
   if (g_stop) throw InputError("interrupted by the user (outputs written)");
+  if (a.clean) {
+    fmt::print("\n");
+    clean_sequence(seq, poses, first, cfg, a.out + "/clean");
+  }
 }
 
 }  // namespace
@@ -331,7 +337,7 @@ void register_run(CLI::App& app) {
       "section sets one.\n"
       "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
       "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
-      "metrics.json (when the folder has poses.txt).\n"
+      "metrics.json (when the folder has poses.txt); with --clean also clean/ (see `dloam clean`).\n"
       "Examples:\n"
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
@@ -358,6 +364,9 @@ void register_run(CLI::App& app) {
       "--drop-labelled-moving", args->drop_moving,
       "delete the points labels/ marks moving before the pipeline sees them: a perfect "
       "detector's reference for studies (use with --detector none); written labels mark them moving");
+  cmd->add_flag(
+      "--clean", args->clean,
+      "then the whole-drive pass (`dloam clean`) over the run: labels and static map in --out/clean");
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--lengths", args->lengths,

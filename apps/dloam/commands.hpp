@@ -11,6 +11,7 @@ void register_eval(CLI::App& app);
 void register_check(CLI::App& app);
 void register_config(CLI::App& app);
 void register_run(CLI::App& app);
+void register_clean(CLI::App& app);
 void register_calibrate(CLI::App& app);  ///< calibrate-beams
 void register_convert(CLI::App& app);
 void register_train(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   dloam::app::register_check(app);
   dloam::app::register_config(app);
   dloam::app::register_run(app);
+  dloam::app::register_clean(app);
   dloam::app::register_calibrate(app);
   dloam::app::register_convert(app);
 #ifdef DLOAM_WITH_TORCH

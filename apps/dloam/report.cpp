@@ -78,4 +78,36 @@ void write_odometry_metrics(const std::string& json_path, const std::vector<Pose
   fmt::print("wrote {}\n", json_path);
 }
 
+void print_mos(const eval::MosResult& r, double object_threshold) {
+  const auto& p = r.points;
+  const auto& o = r.objects;
+  fmt::print("MOS: {} scans, {} points ({} ignored: ground truth unlabeled/outlier)\n", r.scans,
+             p.tp + p.fp + p.fn + p.tn + p.ignored, p.ignored);
+  fmt::print("  points   IoU {:.4f}  precision {:.4f}  recall {:.4f}  static IoU {:.4f}\n", p.iou(),
+             p.precision(), p.recall(), p.static_iou());
+  fmt::print("           TP {}  FP {}  FN {}  TN {}\n", p.tp, p.fp, p.fn, p.tn);
+  fmt::print("  objects  IoU {:.4f}  TP {}  FP {}  FN {}  (detected: > {:g} % of points predicted moving)\n",
+             o.iou(), o.tp, o.fp, o.fn, 100.0 * object_threshold);
+}
+
+nlohmann::json mos_json(const eval::MosResult& r, double object_threshold) {
+  const auto& p = r.points;
+  const auto& o = r.objects;
+  return {{"scans", r.scans},
+          {"iou", p.iou()},
+          {"precision", p.precision()},
+          {"recall", p.recall()},
+          {"static_iou", p.static_iou()},
+          {"tp", p.tp},
+          {"fp", p.fp},
+          {"fn", p.fn},
+          {"tn", p.tn},
+          {"ignored", p.ignored},
+          {"object_iou", o.iou()},
+          {"object_tp", o.tp},
+          {"object_fp", o.fp},
+          {"object_fn", o.fn},
+          {"object_threshold", object_threshold}};
+}
+
 }  // namespace dloam::app

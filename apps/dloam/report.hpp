@@ -1,10 +1,11 @@
-// Odometry report shared by `dloam eval odometry` and `dloam run`: the readable table and the JSON.
+// Reports shared by `dloam eval`, `dloam run` and `dloam clean`: the readable tables and the JSON.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "dloam/eval/mos_metrics.hpp"
 #include "dloam/eval/odometry_metrics.hpp"
 
 namespace dloam::app {
@@ -21,5 +22,9 @@ nlohmann::json odometry_json(const eval::OdometryResult& r, const eval::SegmentO
 /// Evaluates, prints the table and writes `json_path` (used by `dloam run` with ground truth).
 void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,
                             const std::vector<Pose>& est, const std::vector<double>& lengths);
+
+/// The MOS table of `dloam eval mos` (and `dloam clean`) and its JSON fields.
+void print_mos(const eval::MosResult& r, double object_threshold);
+nlohmann::json mos_json(const eval::MosResult& r, double object_threshold);
 
 }  // namespace dloam::app

@@ -190,6 +190,40 @@ void visit(MappingConfig& c, V& v) {
   v("loop_max_fitness", c.loop_max_fitness, "accept a loop when ICP fitness is below this", above(0));
 }
 
+template <class V>
+void visit(MapCleanerConfig& c, V& v) {
+  v("label_window", c.label_window, "scans on each side whose views decide the per-scan labels", at_least(1));
+  v("map_window", c.map_window, "scans on each side whose views decide what enters the map (>= label_window)",
+    at_least(1));
+  v("map_stride", c.map_stride, "beyond the label window, every N-th scan of the map window views",
+    at_least(1));
+  v("max_view_distance", c.max_view_distance, "viewers farther than this from the scan are skipped (m)",
+    above(0));
+  v("max_range", c.max_range, "points farther than this from a viewer get no evidence from it (m)", above(0));
+  v("margin", c.margin, "seen through: every nearby return farther than the point by this (m) ...",
+    at_least(0));
+  v("margin_per_m", c.margin_per_m, "... plus this per metre of range (also widens occupied_tolerance)",
+    at_least(0));
+  v("occupied_tolerance", c.occupied_tolerance, "seen occupied: a nearby return within this of the range (m)",
+    above(0));
+  v("ground_clearance", c.ground_clearance,
+    "no seen-through evidence for points this close to a ground plane (grazing rays, m)", at_least(0));
+  v("neighbour_rows", c.neighbour_rows, "pixel neighbourhood checked: +-rows", at_least(0));
+  v("neighbour_cols", c.neighbour_cols, "pixel neighbourhood checked: +-columns", at_least(0));
+  v("moving_fraction", c.moving_fraction,
+    "a cluster is moving when more than this fraction of its points with evidence are seen through",
+    Range{0, 1, true, true});
+  v("min_moving_points", c.min_moving_points, "... and at least this many", at_least(1));
+  v("map_fraction", c.map_fraction, "the same fraction over the map window keeps a cluster out of the map",
+    Range{0, 1, true, true});
+  v("min_map_points", c.min_map_points, "... with at least this many points", at_least(1));
+  v("far_point_stride", c.far_point_stride, "beyond the label window, every N-th point is checked",
+    at_least(1));
+  v("map_leaf_size", c.map_leaf_size, "voxel size of the cleaned map (m)", above(0));
+  v("map_max_range", c.map_max_range,
+    "points farther than this from their scan stay out of the cleaned map (m)", above(0));
+}
+
 /// Top level: one group per module, then the shared thread count.
 template <class V>
 void visit(PipelineConfig& c, V& v) {
@@ -203,6 +237,8 @@ void visit(PipelineConfig& c, V& v) {
   v.group("features", c.features, "III.E feature extraction (eq. 14)");
   v.group("odometry", c.odometry, "III.F two-step LM odometry (eq. 15)");
   v.group("mapping", c.mapping, "III.G scan-to-map mapping and loop closure");
+  v.group("clean", c.clean,
+          "the whole-drive pass (dloam clean): range-image visibility, both directions in time");
   v("threads", c.threads, "worker threads of the pipeline", within(1, 256));
 }
 

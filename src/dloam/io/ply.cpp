@@ -150,7 +150,7 @@ PlyCloud read_ply(const std::string& path) {
 }
 
 void write_ply(const std::string& path, const PointCloud& cloud, Encoding encoding,
-               const std::vector<Rgb>& rgb, const std::vector<float>& label) {
+               const std::vector<Rgb>& rgb, const std::vector<float>& label, const std::string& label_name) {
   const std::size_t n = cloud.size();
   if (!rgb.empty() && rgb.size() != n)
     fail(path,
@@ -164,7 +164,7 @@ void write_ply(const std::string& path, const PointCloud& cloud, Encoding encodi
         << "element vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n"
         << (with_i ? "property float intensity\n" : "")
         << (rgb.empty() ? "" : "property uchar red\nproperty uchar green\nproperty uchar blue\n")
-        << (label.empty() ? "" : "property float label\n") << "end_header\n";
+        << (label.empty() ? "" : "property float " + label_name + "\n") << "end_header\n";
     std::string record;
     char buf[24];
     auto put_float = [&](float v) {

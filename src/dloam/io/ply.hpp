@@ -22,9 +22,11 @@ struct PlyCloud {
 };
 
 /// Writes `cloud` (intensity when present) plus optional colours and labels (each empty or one
-/// per point; otherwise throws InputError). Atomic.
+/// per point; otherwise throws InputError). `label_name` names the label property (e.g. "count"
+/// for a per-point observation count). Atomic.
 void write_ply(const std::string& path, const PointCloud& cloud, Encoding encoding = Encoding::kBinary,
-               const std::vector<Rgb>& rgb = {}, const std::vector<float>& label = {});
+               const std::vector<Rgb>& rgb = {}, const std::vector<float>& label = {},
+               const std::string& label_name = "label");
 
 /// Reads the vertex element (it must be the file's first element). Rejects: missing file, bad
 /// header, big-endian data, list properties in vertex, truncated data, NaN/Inf coordinates.

@@ -8,6 +8,7 @@
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/dynamic_detector.hpp"
 #include "dloam/core/features.hpp"
+#include "dloam/core/map_cleaner_config.hpp"
 #include "dloam/core/mapping.hpp"
 #include "dloam/core/motion_model.hpp"
 #include "dloam/core/odometry.hpp"
@@ -40,6 +41,7 @@ struct PipelineConfig {
   FeatureConfig features;
   OdometryConfig odometry;
   MappingConfig mapping;
+  MapCleanerConfig clean;  ///< the whole-drive pass (`dloam clean`), not the online pipeline
   int threads = 2;
 };
 
