@@ -36,24 +36,26 @@ std::vector<Pose> read_run_poses(const std::string& run_dir, const io::Sequence&
   return poses;
 }
 
-namespace {
-
-/// The scan as the pipeline saw it: vertical-angle corrected, de-skewed with the motion of the
-/// run's poses around it (mid-sweep reference), segmented.
-CleanerScan prepare(const PointCloud& cloud, const std::vector<Pose>& poses, std::size_t k,
-                    const std::vector<double>& stamps, const PipelineConfig& cfg) {
+std::vector<Vec3> drive_scan_points(const PointCloud& cloud, const std::vector<Pose>& poses, std::size_t k,
+                                    const std::vector<double>& stamps, const PipelineConfig& cfg) {
   std::vector<Vec3> points = cloud.xyz;
   correct_vertical_angle(points, cfg.sensor.vertical_angle_correction_deg);
-  if (cfg.deskew.enabled && cfg.deskew.time_source != "none" && poses.size() > 1) {
-    const std::size_t a = k > 0 ? k - 1 : 0, b = k > 0 ? k : 1;
-    ScanInterval interval;
-    interval.sweep = 1.0 / cfg.sensor.scan_rate_hz;
-    interval.dt =
-        stamps.size() == poses.size() && stamps[b] > stamps[a] ? stamps[b] - stamps[a] : interval.sweep;
-    const Pose step = poses[a].inverse() * poses[b];
-    points =
-        deskew(points, point_times(cloud, cfg.deskew.time_source == "auto"), interval.sweep_motion(step));
-  }
+  if (!cfg.deskew.enabled || cfg.deskew.time_source == "none" || poses.size() < 2) return points;
+  const std::size_t a = k > 0 ? k - 1 : 0, b = k > 0 ? k : 1;
+  ScanInterval interval;
+  interval.sweep = 1.0 / cfg.sensor.scan_rate_hz;
+  interval.dt =
+      stamps.size() == poses.size() && stamps[b] > stamps[a] ? stamps[b] - stamps[a] : interval.sweep;
+  const Pose step = poses[a].inverse() * poses[b];
+  return deskew(points, point_times(cloud, cfg.deskew.time_source == "auto"), interval.sweep_motion(step));
+}
+
+namespace {
+
+/// The scan as the pipeline saw it, segmented.
+CleanerScan prepare(const PointCloud& cloud, const std::vector<Pose>& poses, std::size_t k,
+                    const std::vector<double>& stamps, const PipelineConfig& cfg) {
+  std::vector<Vec3> points = drive_scan_points(cloud, poses, k, stamps, cfg);
   const SegmentationResult seg = segment(points, cfg.sensor, cfg.segmentation);
   return make_cleaner_scan(std::move(points), seg, poses[k]);
 }

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "clean_pass.hpp"
 #include "commands.hpp"
-#include "dloam/core/preprocess.hpp"
 #include "dloam/eval/map_metrics.hpp"
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/eval/odometry_metrics.hpp"
@@ -153,15 +153,18 @@ void run_map(const MapArgs& args) {
     throw InputError(
         fmt::format("{}: {} poses but {} has {} scans", args.poses, poses.size(), args.sequence, seq.size()));
   if (seq.calib && seq.calib->has_Tr) poses = io::camera_to_lidar(poses, seq.calib->Tr);
-  // The points as the pipeline maps them: the sensor's vertical-angle correction applied.
-  const double correction = args.config_path.empty()
-                                ? 0.0
-                                : io::config_from("", args.config_path).sensor.vertical_angle_correction_deg;
+  // The points as the pipeline maps them: vertical-angle corrected and de-skewed with the poses
+  // (as the config says; no config: as stored).
+  PipelineConfig cfg = io::config_from("", args.config_path);
+  if (args.config_path.empty()) cfg.deskew.enabled = false;
+  std::vector<double> stamps;
+  if (seq.times.size() >= poses.size())
+    stamps.assign(seq.times.begin(), seq.times.begin() + static_cast<long>(poses.size()));
   eval::MapAccuracyEvaluator evaluator(args.eval);
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    PointCloud cloud = seq.read_scan(i);
-    correct_vertical_angle(cloud.xyz, correction);
-    evaluator.add_scan(cloud.xyz, seq.read_scan_labels(i, cloud.size()), poses[i]);
+    const PointCloud cloud = seq.read_scan(i);
+    evaluator.add_scan(drive_scan_points(cloud, poses, i, stamps, cfg), seq.read_scan_labels(i, cloud.size()),
+                       poses[i]);
   }
   const eval::MapAccuracy r = evaluator.evaluate(map.cloud.xyz);
   fmt::print("map {}: {} points; reference: {} voxels of {:g} m from {} scans (points within {:g} m)\n",
@@ -267,7 +270,9 @@ void register_eval(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingPath);
   mp->add_option("POSES", map->poses, "poses of the scans (KITTI)")->required()->check(CLI::ExistingFile);
-  mp->add_option("--config,-c", map->config_path, "config whose sensor.vertical_angle_correction_deg applies")
+  mp->add_option(
+        "--config,-c", map->config_path,
+        "the run's config (its config.yaml): the vertical-angle correction and de-skew of the reference")
       ->check(CLI::ExistingFile);
   mp->add_option("--leaf", map->eval.leaf, "reference voxel size (m)")->capture_default_str();
   mp->add_option("--radius", map->eval.radius, "match radius (m), at most --leaf")->capture_default_str();

@@ -250,6 +250,36 @@ void MapCleaner::decide(std::size_t j) {
     if (moving) out.labels[k] = semantic::kMovingGeneric;
     out.in_map[k] = !(moving || ghost);
   }
+  // Ground points next to a removed object in the image (its wheels, its lowest rows taken for
+  // ground) stay out of the map too: the ground there is mapped from the other scans.
+  if (c.map_ground_dilation > 0) {
+    std::vector<int> pixel(n, -1);
+    std::vector<std::uint8_t> removed(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols), 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3 p = out.points[k];
+      const double r = p.norm();
+      if (r < sensor_.min_range || r > sensor_.max_range) continue;
+      const int row = beams.row(p);
+      if (row < 0) continue;
+      pixel[k] = row * cols + azimuth_column(p.x(), p.y(), cols);
+      if (q.point_label[k] != kGroundLabel && !out.in_map[k]) removed[static_cast<std::size_t>(pixel[k])] = 1;
+    }
+    const int d = c.map_ground_dilation;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (q.point_label[k] != kGroundLabel || pixel[k] < 0) continue;
+      const int row = pixel[k] / cols, col = pixel[k] % cols;
+      for (int dr = -d; dr <= d && out.in_map[k]; ++dr) {
+        const int rr = row + dr;
+        if (rr < 0 || rr >= rows) continue;
+        for (int dc = -d; dc <= d; ++dc) {
+          if (removed[static_cast<std::size_t>(rr * cols + ((col + dc) % cols + cols) % cols)]) {
+            out.in_map[k] = 0;
+            break;
+          }
+        }
+      }
+    }
+  }
   // The scan's points are no longer needed (it stays a viewer through its range image only).
   q.points = {};
   q.point_label = {};

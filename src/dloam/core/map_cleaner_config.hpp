@@ -23,7 +23,8 @@ struct MapCleanerConfig {
   int min_map_points = 4;        ///< ... with at least this many points
   int far_point_stride = 2;      ///< beyond the label window, every N-th point of a cluster is checked
   double map_leaf_size = 0.2;    ///< voxel size of the cleaned map (m), as the online map.ply
-  double map_max_range = 60.0;   ///< points farther from their scan stay out of the cleaned map (m)
+  int map_ground_dilation = 2;  ///< ground pixels this close (pixels) to a removed object stay out of the map
+  double map_max_range = 60.0;  ///< points farther from their scan stay out of the cleaned map (m)
 };
 
 }  // namespace dloam

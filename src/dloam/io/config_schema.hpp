@@ -220,6 +220,8 @@ void visit(MapCleanerConfig& c, V& v) {
   v("far_point_stride", c.far_point_stride, "beyond the label window, every N-th point is checked",
     at_least(1));
   v("map_leaf_size", c.map_leaf_size, "voxel size of the cleaned map (m)", above(0));
+  v("map_ground_dilation", c.map_ground_dilation,
+    "ground pixels within this many pixels of a removed object stay out of the cleaned map", at_least(0));
   v("map_max_range", c.map_max_range,
     "points farther than this from their scan stay out of the cleaned map (m)", above(0));
 }
