@@ -203,6 +203,12 @@ void MapCleaner::decide(std::size_t j) {
         }
       });
 
+  // For the map a place counts as empty when some views, not most, saw through it: a parked car
+  // that leaves is seen occupied until then and empty after.
+  auto seen_empty = [&c](const Votes& v) {
+    return v.free >= c.map_min_free && v.free >= c.map_point_fraction * (v.free + v.occupied);
+  };
+
   // Per cluster: points with evidence and points seen through more than occupied.
   int max_label = 0;
   for (int l : q.point_label) max_label = std::max(max_label, l);
@@ -218,7 +224,7 @@ void MapCleaner::decide(std::size_t j) {
     }
     if (all_votes[k].any()) {
       ++all_with[u];
-      all_thr[u] += all_votes[k].through();
+      all_thr[u] += seen_empty(all_votes[k]);
     }
   }
   std::vector<std::uint8_t> cluster_moving(near_with.size(), 0), cluster_ghost(near_with.size(), 0);
@@ -245,7 +251,7 @@ void MapCleaner::decide(std::size_t j) {
     } else if (l == 0) {
       // Points of no cluster: decided alone, and only on clear evidence.
       moving = near_votes[k].free >= 2 && near_votes[k].free > 2 * near_votes[k].occupied;
-      ghost = all_votes[k].free >= 2 && all_votes[k].free > 2 * all_votes[k].occupied;
+      ghost = seen_empty(all_votes[k]) && all_votes[k].free > all_votes[k].occupied;
     }
     if (moving) out.labels[k] = semantic::kMovingGeneric;
     out.in_map[k] = !(moving || ghost);

@@ -19,10 +19,12 @@ struct MapCleanerConfig {
   int neighbour_cols = 1;           ///< ... and +-columns
   double moving_fraction = 0.3;  ///< a cluster is moving when this fraction of its points with evidence ...
   int min_moving_points = 4;     ///< ... and at least this many are seen through more than occupied
-  double map_fraction = 0.2;     ///< the same fraction over the map window keeps a cluster out of the map
-  int min_map_points = 4;        ///< ... with at least this many points
-  int far_point_stride = 2;      ///< beyond the label window, every N-th point of a cluster is checked
-  double map_leaf_size = 0.2;    ///< voxel size of the cleaned map (m), as the online map.ply
+  int map_min_free = 2;          ///< map: a point's place is empty when at least this many views ...
+  double map_point_fraction = 0.25;  ///< ... and this fraction of its views saw through it
+  double map_fraction = 0.2;         ///< the same fraction over the map window keeps a cluster out of the map
+  int min_map_points = 4;            ///< ... with at least this many points
+  int far_point_stride = 2;          ///< beyond the label window, every N-th point of a cluster is checked
+  double map_leaf_size = 0.2;        ///< voxel size of the cleaned map (m), as the online map.ply
   int map_ground_dilation = 2;  ///< ground pixels this close (pixels) to a removed object stay out of the map
   double map_max_range = 60.0;  ///< points farther from their scan stay out of the cleaned map (m)
 };

@@ -214,6 +214,10 @@ void visit(MapCleanerConfig& c, V& v) {
     "a cluster is moving when more than this fraction of its points with evidence are seen through",
     Range{0, 1, true, true});
   v("min_moving_points", c.min_moving_points, "... and at least this many", at_least(1));
+  v("map_min_free", c.map_min_free, "map: a point's place is empty when at least this many views ...",
+    at_least(1));
+  v("map_point_fraction", c.map_point_fraction, "... and this fraction of its views saw through it",
+    Range{0, 1, true, false});
   v("map_fraction", c.map_fraction, "the same fraction over the map window keeps a cluster out of the map",
     Range{0, 1, true, true});
   v("min_map_points", c.min_map_points, "... with at least this many points", at_least(1));
