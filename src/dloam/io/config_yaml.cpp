@@ -116,8 +116,9 @@ struct Loader {
       preset = s.*name;  // canonical spelling
     };
     if constexpr (std::is_same_v<S, SensorConfig>)
-      apply_preset("preset", [&](const std::string& name) { return sensor_start(name, estimated); },
-                   &SensorConfig::preset);
+      apply_preset(
+          "preset", [&](const std::string& name) { return sensor_start(name, estimated); },
+          &SensorConfig::preset);
     if constexpr (std::is_same_v<S, MotionConfig>)
       apply_preset("platform", motion_preset, &MotionConfig::platform);
     Loader sub{n, source, prefix + key + ".", {}, estimated};
