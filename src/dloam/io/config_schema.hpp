@@ -112,6 +112,8 @@ void visit(DeskewConfig& c, V& v) {
   v("enabled", c.enabled, "de-skew by interpolating T_coarse over the sweep (eq. 12)", Range{});
   v("time_source", c.time_source, "t_i: auto (data's time, else azimuth) | azimuth | none",
     Choices{"auto", "azimuth", "none"});
+  v("acceleration", c.acceleration,
+    "extrapolate the step's velocity to the sweep's reference time with the last velocity change", Range{});
 }
 
 template <class V>
