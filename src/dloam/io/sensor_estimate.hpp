@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "dloam/core/sensor.hpp"
 #include "dloam/core/types.hpp"
 
 namespace dloam::io {
@@ -32,5 +33,18 @@ struct SensorEstimate {
 
 /// Throws InputError when the histogram is empty.
 SensorEstimate estimate_sensor(const ElevationHistogram& histogram);
+
+/// How one scan fits a sensor model, the test `dloam run` and `dloam check` share: the points
+/// within [min_range, max_range] (vertical-angle correction applied) and how many of them fall on
+/// a beam of the model's range image.
+struct SensorFit {
+  std::size_t points = 0, in_range = 0, inside = 0;
+};
+SensorFit sensor_fit(const PointCloud& cloud, const SensorConfig& sensor);
+/// A scan needs this many points in range to judge the fit by.
+inline constexpr std::size_t kMinFitPoints = 1000;
+/// "<file>: only N% of the points lie inside the vertical field of view ..." when fewer than 90 %
+/// of the points in range fit; empty when they fit or there are fewer than kMinFitPoints.
+std::string sensor_fit_problem(const SensorFit& fit, const SensorConfig& sensor, const std::string& file);
 
 }  // namespace dloam::io
