@@ -93,8 +93,12 @@ struct Loader {
   }
 
   void reject_unknown_keys() const {
+    std::set<std::string> seen;
     for (const auto& kv : node) {
-      const std::string key = kv.first.as<std::string>();
+      if (!kv.first.IsScalar()) fail(kv.first, prefix + "?", "a key must be a plain name");
+      const std::string key = kv.first.Scalar();
+      if (!seen.insert(key).second)
+        fail(kv.first, prefix + key, "given twice in the same map (YAML keys must be unique)");
       if (known.count(key)) continue;
       std::string list;
       for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
@@ -159,9 +163,15 @@ PipelineConfig config_from_yaml_string(const std::string& yaml, const std::strin
                                        const PipelineConfig& base) {
   YAML::Node root;
   try {
-    root = YAML::Load(yaml);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml);
+    if (documents.size() > 1)
+      throw InputError(source + ": holds " + std::to_string(documents.size()) +
+                       " YAML documents (separated by ---); a config is one document");
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::ParserException& e) {
     throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": YAML error: " + e.what());
   }
   PipelineConfig config = base;
   if (root && !root.IsNull()) {
@@ -177,7 +187,7 @@ PipelineConfig config_from_yaml_string(const std::string& yaml, const std::strin
 PipelineConfig load_config(const std::string& yaml_path) { return load_config(yaml_path, default_config()); }
 
 PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& base) {
-  return config_from_yaml_string(read_file(yaml_path), yaml_path, base);
+  return config_from_yaml_string(read_file(yaml_path, kMaxConfigFileBytes), yaml_path, base);
 }
 
 PipelineConfig config_from(const std::string& preset, const std::string& yaml_path) {
@@ -201,6 +211,19 @@ void validate_config(const PipelineConfig& config, const std::string& source) {
     fail("segmentation.N_min_cluster_small must not exceed N_min_cluster");
   if (c.features.S % 2 != 0) fail("features.S must be even (half of the neighbours on each side)");
   if (c.features.N_fe > c.features.N_Fe) fail("features.N_fe must not exceed N_Fe (f_e is a subset of F_e)");
+  if (c.mapping.latency_scans > c.mapping.every_n_scans)
+    fail("mapping.latency_scans must not exceed mapping.every_n_scans (one mapping job at a time)");
+  // Voxel keys are 32-bit integers per axis: a leaf of 1 mm spans +-2,100 km, room for points up to
+  // 1e6 m from a sensor up to 1e6 m from the start; a smaller leaf would overflow them.
+  for (const auto& [key, leaf] :
+       {std::pair<const char*, double>{"features.plane_leaf_size", c.features.plane_leaf_size},
+        {"mapping.edge_leaf_size", c.mapping.edge_leaf_size},
+        {"mapping.plane_leaf_size", c.mapping.plane_leaf_size},
+        {"mapping.map_leaf_size", c.mapping.map_leaf_size}})
+    if (leaf < detail::kMinLeafSize)
+      fail(std::string(key) + " = " + std::to_string(leaf) +
+           " m is below 0.001 m: the voxel grid's 32-bit keys would overflow within " +
+           std::to_string(2.0e9 * leaf / 1000.0) + " km of the start (and no LiDAR resolves it)");
 }
 
 }  // namespace dloam::io
