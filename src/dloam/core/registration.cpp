@@ -170,7 +170,10 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     }
     const int matches = res.edge_matches + res.plane_matches;
     res.mean_residual = matches > 0 ? sum_r / matches : 0.0;
-    if (matches < 10) break;
+    if (matches < 10) {  // too few correspondences to constrain the pose: the guess stands
+      res.degenerate = true;
+      break;
+    }
 
     Eigen::MatrixXd Hs(nf, nf);
     Eigen::VectorXd gs(nf);
