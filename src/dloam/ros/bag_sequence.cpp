@@ -139,7 +139,15 @@ io::Sequence open_bag_sequence(const std::string& bag_path, const std::string& t
   seq.dir = bag_path;
   for (std::size_t i = 0; i < source->size(); ++i) {
     seq.scan_files.push_back(source->name(i));
-    seq.times.push_back(source->stamp(i));
+    const double stamp = source->stamp(i);
+    // Scan times must increase, as in times.txt: a repeated or earlier stamp is a duplicated or
+    // reordered message, and the TUM output would repeat or reorder its time.
+    if (i > 0 && !(stamp > seq.times.back()))
+      fail(source->name(i), "stamp " + std::to_string(stamp) + " s is " +
+                                (stamp == seq.times.back() ? "the same as" : "earlier than") + " message " +
+                                std::to_string(i - 1) + "'s (" + std::to_string(seq.times.back()) +
+                                " s): scan times must increase");
+    seq.times.push_back(stamp);
   }
   seq.source = std::move(source);
   return seq;

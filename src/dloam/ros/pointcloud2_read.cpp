@@ -2,10 +2,13 @@
 #include <sensor_msgs/PointField.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 
 #include "dloam/io/fields.hpp"
 #include "dloam/io/pcd.hpp"
+#include "dloam/io/text_util.hpp"
 #include "dloam/ros/pointcloud2.hpp"
 
 namespace dloam::ros1 {
@@ -134,9 +137,21 @@ ConvertedCloud from_pointcloud2(const sensor_msgs::PointCloud2& msg, const std::
         ++out.dropped;
         continue;
       }
+      if (p.cwiseAbs().maxCoeff() > io::detail::kMaxPointDistance)
+        fail(where, "point " + std::to_string(i) + " is farther than 1e6 m from the sensor: no LiDAR return");
       cloud.xyz.push_back(p);
-      if (intensity) cloud.intensity.push_back(static_cast<float>(intensity->get(record)));
-      if (time) times.push_back(time->get(record));
+      if (intensity) {
+        const double v = intensity->get(record);
+        if (!std::isfinite(v) || std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+          fail(where, "point " + std::to_string(i) + " has intensity " + std::to_string(v) +
+                          " (not a finite float32)");
+        cloud.intensity.push_back(static_cast<float>(v));
+      }
+      if (time) {
+        const double t = time->get(record);
+        if (!std::isfinite(t)) fail(where, "point " + std::to_string(i) + " has a NaN or Inf time");
+        times.push_back(t);
+      }
     }
   }
   if (cloud.empty()) fail(where, "no finite point (all " + std::to_string(n) + " are NaN/Inf)");
