@@ -9,13 +9,14 @@
 
 #include "commands.hpp"
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/config_yaml.hpp"
 #include "dloam/io/sequence_check.hpp"
 
 namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, topic, preset;
+  std::string dir, topic, preset, config_path;
 };
 
 std::string yes_no(bool present) { return present ? "yes" : "no"; }
@@ -32,6 +33,9 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
     fmt::print("point times   {}\n", r.points_with_time == r.scans_ok ? "per-point time channel in every scan"
                                      : r.points_with_time == 0        ? "none (time from azimuth)"
                                                                       : "only in some scans");
+    if (r.dropped_points) fmt::print("no returns    {} NaN points dropped by the reader\n", r.dropped_points);
+    fmt::print("degenerate    {} scan{}{}\n", r.degenerate_scans, r.degenerate_scans == 1 ? "" : "s",
+               r.degenerate_scans ? " (listed above): too few points to register" : "");
   }
   fmt::print("labels        {}", yes_no(r.has_labels));
   if (r.has_labels) {
@@ -48,8 +52,8 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
     fmt::print(" (calib.txt keys: {})", keys);
   }
   fmt::print("\ntimes         {}", yes_no(r.has_times));
-  if (r.has_times && r.time_count > 1) {
-    const double rate = (r.time_count - 1) / (r.last_time - r.first_time);
+  if (r.has_times && r.time_count > 1 && r.last_time > r.first_time) {
+    const double rate = static_cast<double>(r.time_count - 1) / (r.last_time - r.first_time);
     fmt::print(" ({} times, {:.3f} .. {:.3f} s, {:.2f} Hz)", r.time_count, r.first_time, r.last_time, rate);
   }
   fmt::print("\n");
@@ -62,24 +66,38 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
     if (!preset.empty() && sensor_preset(preset).preset != s.preset)
       fmt::print("warning       --preset {} given, but the data looks like {}\n", preset, s.preset);
   }
+  if (r.fit && r.fit->in_range > 0)
+    fmt::print("sensor fit    {:.1f} % of the first full scan's points in range lie on a beam of {}\n",
+               100.0 * static_cast<double>(r.fit->inside) / static_cast<double>(r.fit->in_range),
+               r.fit_sensor);
 }
 
 void run_check(const CheckArgs& a) {
-  if (!a.preset.empty()) (void)sensor_preset(a.preset);  // reject an unknown name before reading
-  const auto report = io::check_sequence(
-      a.dir,
-      [](const std::string& problem) {
-        fmt::print(stderr, "problem: {}\n", problem);
-        std::fflush(stderr);
-      },
-      a.topic);
+  io::CheckOptions options;
+  options.topic = a.topic;
+  // The sensor `dloam run` would use with the same options: scans that do not fit it are problems.
+  if (!a.preset.empty() || !a.config_path.empty())
+    options.sensor = io::config_from(a.preset, a.config_path).sensor;
+  options.on_problem = [](const std::string& problem) {
+    fmt::print(stderr, "problem: {}\n", problem);
+    std::fflush(stderr);
+  };
+  options.on_warning = [](const std::string& warning) {
+    fmt::print(stderr, "warning: {}\n", warning);
+    std::fflush(stderr);
+  };
+  const auto report = io::check_sequence(a.dir, options);
   print_summary(report, a.preset);
+  const std::string warnings = report.warnings.empty()
+                                   ? ""
+                                   : fmt::format(" ({} warning{} listed above)", report.warnings.size(),
+                                                 report.warnings.size() == 1 ? "" : "s");
   if (report.problems.empty()) {
-    fmt::print("OK: no problems found\n");
+    fmt::print("OK: no problems found{}\n", warnings);
     return;
   }
-  fmt::print("FAILED: {} problem{} (listed above)\n", report.problems.size(),
-             report.problems.size() == 1 ? "" : "s");
+  fmt::print("FAILED: {} problem{} (listed above){}\n", report.problems.size(),
+             report.problems.size() == 1 ? "" : "s", warnings);
   std::fflush(stdout);
   throw CLI::RuntimeError(1);
 }
@@ -97,7 +115,11 @@ void register_check(CLI::App& app) {
   cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
   cmd->add_option(
       "--preset", args->preset,
-      "sensor you expect (HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128): warns if the data looks different");
+      "sensor you expect (HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128): scans that do not fit it are "
+      "problems, as in `dloam run`");
+  cmd->add_option("--config,-c", args->config_path,
+                  "YAML config whose sensor the scans must fit, as in `dloam run`")
+      ->check(CLI::ExistingFile);
   cmd->footer(
       "Reads every scan fully and every label, pose, time and calibration file; reports each problem\n"
       "with its file name and keeps going. Exit status 0 when everything is readable and consistent.\n"
