@@ -21,7 +21,9 @@ TEST(HardeningYaml, DuplicateKeysSecondDocumentsAndRunOnlyRulesAreErrors) {
               HasSubstr("mapping.every_n_scans"));
   EXPECT_THAT(error("mapping:\n  every_n_scans: 2\n  every_n_scans: 3\n"), HasSubstr("twice"));
   EXPECT_THAT(error("mapping: {max_iterations: 5}\nmapping: {max_iterations: 6}\n"), HasSubstr("my.yaml:2"));
-  EXPECT_THAT(error("threads: 2\n---\nthreads: 3\n"), HasSubstr("2 YAML documents"));
+  EXPECT_THAT(error("threads: 2\n---\nthreads: 3\n"), HasSubstr("my.yaml:2: a second YAML document"));
+  EXPECT_THAT(error("---\nthreads: 2\n...\nthreads: 3\n"), HasSubstr("my.yaml:4: a second YAML document"));
+  EXPECT_THAT(error("--- {threads: 2}\n--- {threads: 3}\n"), HasSubstr("my.yaml:2"));
   EXPECT_THAT(error("? [a, b]\n: 1\n"), HasSubstr("my.yaml"));
   // What `dloam run` enforces, every command's validation enforces.
   EXPECT_THAT(error("mapping: {every_n_scans: 1, latency_scans: 3}\n"), HasSubstr("latency_scans"));
@@ -34,6 +36,9 @@ TEST(HardeningYaml, DuplicateKeysSecondDocumentsAndRunOnlyRulesAreErrors) {
   EXPECT_THAT(error("sensor: {max_range: 1e9}\n"), HasSubstr("sensor.max_range"));
   EXPECT_NO_THROW((void)config_from_yaml_string("mapping: {map_leaf_size: 0.001}\n"));
   EXPECT_NO_THROW((void)config_from_yaml_string("---\nthreads: 2\n"));  // one document with its marker
+  EXPECT_NO_THROW((void)config_from_yaml_string("%YAML 1.2\n---\nthreads: 2\n...\n# the end\n"));
+  EXPECT_NO_THROW((void)config_from_yaml_string("# nothing but comments\n\n"));
+  EXPECT_NO_THROW((void)config_from_yaml_string("sensor:\n  preset: VLP-16\n  # --- not a marker here\n"));
 }
 
 TEST(HardeningYaml, DevicesAndFilesLargerThanAnySaneConfigAreRefusedBeforeParsing) {
@@ -46,4 +51,10 @@ TEST(HardeningYaml, DevicesAndFilesLargerThanAnySaneConfigAreRefusedBeforeParsin
   const std::string big = input_error_of([&] { (void)load_config(dir.file("big.yaml")); });
   EXPECT_THAT(big, HasSubstr("big.yaml"));
   EXPECT_THAT(big, HasSubstr("larger than"));
+}
+
+TEST(HardeningYaml, FuzzFindingsAreErrorsNotHangs) {
+  // yaml-cpp 0.7's LoadAll() never returned on "," (found by fuzz/fuzz_config_yaml.cpp in 10 s).
+  for (const char* text : {",", "a: 1\n,", ",\n,\n"})
+    EXPECT_THAT(input_error_of([&] { (void)config_from_yaml_string(text, "f.yaml"); }), HasSubstr("f.yaml"));
 }

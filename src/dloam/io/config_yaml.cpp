@@ -107,6 +107,46 @@ struct Loader {
   }
 };
 
+/// The documents of a YAML text, counted from its markers as the YAML spec places them (column 0,
+/// then a blank or the end of the line): content before the first "---" is a document, every
+/// "---" starts one, content after "..." starts one. (yaml-cpp 0.7's LoadAll() never returns on
+/// some inputs, e.g. ",": it is not used.)
+struct Documents {
+  std::size_t count = 0, second_line = 0;  ///< 1-based line where the second document starts
+  bool content = false;                    ///< any line that is not blank, a comment or a marker
+};
+Documents count_documents(const std::string& text) {
+  auto marker = [](std::string_view line, std::string_view m) {
+    return line.substr(0, 3) == m &&
+           (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '\r');
+  };
+  Documents d;
+  bool open = false;
+  std::size_t start = 0, line_no = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + start, end - start);
+    ++line_no;
+    start = end + 1;
+    const bool begins = marker(line, "---");
+    const auto first = line.find_first_not_of(" \t\r");
+    const bool blank = first == std::string_view::npos || line[first] == '#';
+    if (marker(line, "...")) {
+      open = false;
+    } else if (begins || (!blank && !open && line[0] != '%')) {
+      open = true;
+      if (++d.count == 2) d.second_line = line_no;
+    }
+    if (!begins && !blank && !marker(line, "...") && line[0] != '%') d.content = true;
+    if (begins && line.find_first_not_of(" \t\r", 3) != std::string_view::npos &&
+        line[line.find_first_not_of(" \t\r", 3)] != '#')
+      d.content = true;  // "--- {a: 1}"
+    if (end == text.size()) break;
+  }
+  return d;
+}
+
 /// Checks every field against its Range / Choices.
 struct Validator {
   std::string source, prefix;
@@ -161,19 +201,21 @@ PipelineConfig default_config(const std::string& preset) {
 
 PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source,
                                        const PipelineConfig& base) {
+  const Documents documents = count_documents(yaml);
+  if (documents.count > 1)
+    throw InputError(source + ":" + std::to_string(documents.second_line) +
+                     ": a second YAML document (after --- or ...); a config is one document");
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml);
-    if (documents.size() > 1)
-      throw InputError(source + ": holds " + std::to_string(documents.size()) +
-                       " YAML documents (separated by ---); a config is one document");
-    if (!documents.empty()) root = documents.front();
+    root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
     throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   } catch (const YAML::Exception& e) {
     throw InputError(source + ": YAML error: " + e.what());
   }
   PipelineConfig config = base;
+  if ((!root || root.IsNull()) && documents.content)
+    throw InputError(source + ": is not a YAML map of sections (sensor, mapping, ...)");
   if (root && !root.IsNull()) {
     if (!root.IsMap()) throw InputError(source + ": expected a YAML map of sections (sensor, mapping, ...)");
     Loader loader{root, source, "", {}};
