@@ -11,7 +11,8 @@ BUILD_DIR=${DLOAM_BUILD_DIR:-build}
 PACKAGES=(cmake ninja-build g++ pkg-config
   libeigen3-dev libtbb-dev libnanoflann-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   libspdlog-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libceres-dev gnuplot-nox libtorch-dev
-  librosbag-storage-dev libsensor-msgs-dev libroscpp-dev libnav-msgs-dev libtf2-ros-dev)
+  librosbag-storage-dev libsensor-msgs-dev libroscpp-dev libnav-msgs-dev libtf2-ros-dev
+  clang libclang-rt-14-dev)
 
 if [[ "${DLOAM_SKIP_APT:-0}" != 1 ]]; then
   missing=()

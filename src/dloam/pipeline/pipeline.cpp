@@ -215,7 +215,7 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
     keyframe_without_points_ = in.keyframe && out.map_points.empty();
   }
   if (count_ == 0) {  // wait for the first motion (scan 1) to de-skew it
-    first_.emplace();
+    first_.emplace(FirstScan{});  // not emplace(): clang rejects it for a nested struct with initialisers
     if (!times.empty()) {
       first_->raw = raw;
       first_->times = times;
