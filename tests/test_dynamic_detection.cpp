@@ -104,7 +104,7 @@ TEST(DynamicDetector, LabelsTheMovingCarClusterOnly) {
   const Frame cur = cast(0.5, 11.0, s);
   const SpeedMatrix S =
       compute_speed_matrix(cur.seg.image, cur.points, translation(0.5), image_of(prev, s).range, s);
-  DetectionConfig cfg;
+  DetectionConfig cfg = thresholds_over(DetectionConfig{}, 0.1);  // scans 0.1 s apart
   cfg.v_static = 0.2;
   cfg.v_ground = 0.1;
   const DetectionResult det = detect_dynamic(cur.seg, S, cfg);
@@ -143,7 +143,7 @@ TEST(DynamicDetector, StaticSceneHasNoDynamicCluster) {
   const Frame cur = cast(0.5, 12.0, s);  // the car parked
   const SpeedMatrix S =
       compute_speed_matrix(cur.seg.image, cur.points, translation(0.5), image_of(prev, s).range, s);
-  DetectionConfig cfg;
+  DetectionConfig cfg = thresholds_over(DetectionConfig{}, 0.1);  // scans 0.1 s apart
   cfg.v_static = 0.2;
   EXPECT_EQ(detect_dynamic(cur.seg, S, cfg).num_dynamic, 0);
   EXPECT_THROW(detect_dynamic(cur.seg, SpeedMatrix{}, cfg), InputError);
@@ -151,7 +151,7 @@ TEST(DynamicDetector, StaticSceneHasNoDynamicCluster) {
 
 TEST(ObjectTracker, StopAndGoCarIsTypeTwoThenTypeOne) {
   const SensorConfig s = test::scene_sensor();
-  DetectionConfig cfg;
+  DetectionConfig cfg = thresholds_over(DetectionConfig{}, 0.1);  // scans 0.1 s apart
   cfg.v_static = 0.2;
   // Car positions over five scans, ego +0.5 m per scan: moving, stopped, stopped, moving again.
   const double car_x[] = {14.0, 13.0, 13.0, 13.0, 12.0};

@@ -75,7 +75,7 @@ TEST(Disocclusion, UncoveredStaticPostDoesNotVoteMovingVanDoes) {
   EXPECT_GT(post_pixels, DetectionConfig{}.N_min_dynamic);
   EXPECT_GT(post_behind, 0.9 * post_pixels);
 
-  const DetectionConfig cfg;
+  const DetectionConfig cfg = thresholds_over(DetectionConfig{}, 0.1);  // scans 0.1 s apart
   const DetectionResult det = detect_dynamic(cur.seg, S, cfg);
   EXPECT_FALSE(det.cluster_dynamic[static_cast<std::size_t>(post)]);
   EXPECT_TRUE(det.cluster_dynamic[static_cast<std::size_t>(van)]);

@@ -62,7 +62,7 @@ struct Step {
 /// Runs the detector and the tracker (default configuration) over the truck positions.
 std::vector<Step> drive(const std::vector<double>& rear_x) {
   const SensorConfig s = test::scene_sensor();
-  const DetectionConfig cfg;
+  const DetectionConfig cfg = thresholds_over(DetectionConfig{}, 0.1);  // scans 0.1 s apart
   ObjectTracker tracker;
   std::vector<Step> steps;
   Frame prev = cast(rear_x[0], s);

@@ -130,7 +130,7 @@ TEST(Preregistration, CoarseMotionFallsBackToPredictionWithoutObjects) {
   Vec6 xi;
   xi << 0, 0, 0.01, 0.4, 0, 0;
   const Pose predicted = exp_se3(xi);
-  const CoarseResult r = coarse_motion(ObjectSet{}, empty, predicted, PreRegistrationConfig{});
+  const CoarseResult r = coarse_motion(ObjectSet{}, empty, predicted, PreRegistrationConfig{}, nullptr);
   EXPECT_FALSE(r.valid);
   EXPECT_TRUE(r.T.isApprox(predicted));
 }
@@ -160,27 +160,34 @@ TEST(Preregistration, CoarseMotionOutsideTheMotionGateIsRejected) {
   xi << 0, 0, 0, 2.5, 0, 0;
   const Pose predicted = exp_se3(xi);
   PreRegistrationConfig c;
+  MotionModel model{MotionConfig{}};  // the car platform: at 10 Hz a 0.3 m / 1 deg gate
+  model.update(predicted, 0.1);
+  MotionGate gate = model.gate(0.1);
   Vec6 small;
   small << 0, 0, 0.8 * M_PI / 180.0, -0.25, 0.05, 0;
   const Pose near_truth = predicted * exp_se3(small);
-  const CoarseResult kept = coarse_motion(seen_after(near_truth), target, predicted, c);
+  const CoarseResult kept = coarse_motion(seen_after(near_truth), target, predicted, c, &gate);
   EXPECT_TRUE(kept.valid);
   EXPECT_LT(translation_norm(near_truth.inverse() * kept.T), 0.02);
 
   Vec6 jump;
   jump << 0, 0, 0, -0.6, 0, 0;
   const Pose far_truth = predicted * exp_se3(jump);
-  const CoarseResult rejected = coarse_motion(seen_after(far_truth), target, predicted, c);
+  const CoarseResult rejected = coarse_motion(seen_after(far_truth), target, predicted, c, &gate);
   EXPECT_FALSE(rejected.valid);
   EXPECT_TRUE(rejected.T.isApprox(predicted));
   // Ungated (the first scan pair: its start is a search result, no prior) it is kept.
-  const CoarseResult ungated = coarse_motion(seen_after(far_truth), target, predicted, c, false);
+  const CoarseResult ungated = coarse_motion(seen_after(far_truth), target, predicted, c, nullptr);
   EXPECT_TRUE(ungated.valid);
   EXPECT_LT(translation_norm(far_truth.inverse() * ungated.T), 0.02);
-  EXPECT_TRUE(within_motion_gate(predicted.inverse() * near_truth, c));
-  EXPECT_FALSE(within_motion_gate(predicted.inverse() * far_truth, c));
-  c.max_translation_change = 1.0;  // a wider gate lets the same registration through
-  const CoarseResult wide = coarse_motion(seen_after(far_truth), target, predicted, c);
+  EXPECT_TRUE(gate.admits(predicted.inverse() * near_truth));
+  EXPECT_FALSE(gate.admits(predicted.inverse() * far_truth));
+  // Three scans later (two dropped), the platform's accelerations allow much more: the same
+  // registration is let through.
+  const MotionGate wide_gate = model.gate(0.3);
+  EXPECT_GT(wide_gate.max_translation, 0.6);
+  EXPECT_TRUE(wide_gate.admits(predicted.inverse() * far_truth));
+  const CoarseResult wide = coarse_motion(seen_after(far_truth), target, predicted, c, &wide_gate);
   EXPECT_TRUE(wide.valid);
   EXPECT_LT(translation_norm(far_truth.inverse() * wide.T), 0.02);
 }

@@ -137,6 +137,7 @@ TEST(SensorBeams, PresetRowsMatchTheElevationSearch) {
   // Without origin heights, row_of_point is row_of_elevation of the point's elevation.
   for (const auto& name : sensor_preset_names()) {
     const SensorConfig s = sensor_preset(name);
+    if (!s.beam_vertical_offsets_m.empty()) continue;  // Ouster presets: beam origins off the axis
     for (double el = s.beam_elevation_deg(0) - 3.0; el < s.beam_elevation_deg(s.N_scan - 1) + 3.0;
          el += 0.037) {
       const Vec3 p(12.0, -3.0, std::hypot(12.0, 3.0) * std::tan(el * M_PI / 180.0));

@@ -119,7 +119,7 @@ void register_calibrate(CLI::App& app) {
   cmd->add_option("SEQUENCE_DIR", args->dir, "sequence folder (KITTI .bin scans)")->required();
   cmd->add_option("--config,-c", args->config_path, "YAML config whose sensor section is the starting model")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
+  cmd->add_option("--preset", args->preset, "sensor preset: " + sensor_preset_list());
   cmd->add_option("--out,-o", args->out, "write the YAML sensor section here (default: stdout)");
   cmd->add_option("--every", args->every, "use every N-th scan")->check(CLI::Range(1, 1000000));
   cmd->footer(

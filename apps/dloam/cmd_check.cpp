@@ -1,6 +1,7 @@
 // `dloam check SEQUENCE_DIR`: validates every file of a sequence (scans, labels, poses, calib,
 // times), prints each problem with its file name and a summary (points per scan, ground truth
-// present, moving points, the sensor preset the data matches); exits non-zero on any problem.
+// present, moving points, the sensor model estimated from the scans and the preset nearest to it);
+// exits non-zero on any problem. --write-sensor writes the estimated model as a YAML sensor section.
 #include <fmt/core.h>
 
 #include <cstdio>
@@ -9,25 +10,41 @@
 
 #include "commands.hpp"
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/sequence_check.hpp"
+#include "input_args.hpp"
 
 namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, topic, preset, config_path;
+  std::string dir, preset, config_path, write_sensor;
+  InputArgs input;
 };
 
 std::string yes_no(bool present) { return present ? "yes" : "no"; }
 
 void print_summary(const io::SequenceReport& r, const std::string& preset) {
   fmt::print("sequence      {}\n", r.dir);
-  if (r.source.empty())
+  if (r.scan_format.empty())
+    fmt::print("scans         none (the input could not be opened)\n");
+  else if (r.source.empty())
     fmt::print("scans         {} {} files, {} readable\n", r.scans, r.scan_format, r.scans_ok);
+  else if (r.recording_sensor)
+    fmt::print("scans         {} decoded from raw packets, {} readable\nsource        {}\n", r.scans,
+               r.scans_ok, r.source);
   else
     fmt::print("scans         {} {} messages, {} readable\nsource        {}\n", r.scans, r.scan_format,
                r.scans_ok, r.source);
+  if (r.recording_sensor) {
+    const SensorConfig& s = *r.recording_sensor;
+    fmt::print(
+        "sensor model  {} from the recording: {} beams ({:.1f} .. {:.1f} deg), {} columns, {:.2f} Hz, "
+        "{:.2f} .. {:.1f} m (used by `dloam run` without --preset)\n",
+        s.preset, s.N_scan, s.beam_elevation_deg(0), s.beam_elevation_deg(s.N_scan - 1), s.Horizon_SCAN,
+        s.scan_rate_hz, s.min_range, s.max_range);
+  }
   if (r.scans_ok > 0) {
     fmt::print("points/scan   min {}  mean {:.0f}  max {}\n", r.min_points, r.mean_points, r.max_points);
     fmt::print("point times   {}\n", r.points_with_time == r.scans_ok ? "per-point time channel in every scan"
@@ -58,13 +75,19 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
   }
   fmt::print("\n");
   if (r.sensor) {
-    const auto& s = *r.sensor;
-    fmt::print(
-        "sensor        elevation {:.1f} .. {:.1f} deg, {} beams resolved -> looks like {} "
-        "(field-of-view overlap {:.2f})\n",
-        s.lowest_deg, s.highest_deg, s.resolved_beams, s.preset, s.fov_overlap);
-    if (!preset.empty() && sensor_preset(preset).preset != s.preset)
-      fmt::print("warning       --preset {} given, but the data looks like {}\n", preset, s.preset);
+    const auto lines = io::describe_estimate(*r.sensor);
+    for (std::size_t i = 0; i < lines.size(); ++i)
+      fmt::print("{}{}\n", i == 0 ? "sensor        " : "              ", lines[i]);
+    if (!preset.empty()) {
+      const PresetMatch m = match_preset(r.sensor->sensor, preset);
+      if (!m.resembles)
+        fmt::print(
+            "warning       --preset {} given, but the data's beams differ from it (mean distance {:.3f} deg, "
+            "{} vs {} beams)\n",
+            m.preset, m.distance_deg, r.sensor->sensor.N_scan, m.preset_beams);
+    }
+  } else if (!r.sensor_error.empty()) {
+    fmt::print("sensor        not estimated: {}\n", r.sensor_error);
   }
   if (r.fit && r.fit->in_range > 0)
     fmt::print("sensor fit    {:.1f} % of the first full scan's points in range lie on a beam of {}\n",
@@ -73,11 +96,18 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
 }
 
 void run_check(const CheckArgs& a) {
+  if (!a.preset.empty()) (void)sensor_preset(a.preset);  // reject an unknown name before reading
   io::CheckOptions options;
-  options.topic = a.topic;
+  options.input = to_input_options(apply_input_args(InputConfig{}, a.input));
+  if (!a.config_path.empty()) {  // its vertical-angle correction applies to the points estimated from
+    const PipelineConfig file = io::config_from_allowing_auto("", a.config_path);
+    options.estimation.vertical_angle_correction_deg = file.sensor.vertical_angle_correction_deg;
+  }
   // The sensor `dloam run` would use with the same options: scans that do not fit it are problems.
-  if (!a.preset.empty() || !a.config_path.empty())
-    options.sensor = io::config_from(a.preset, a.config_path).sensor;
+  if (!a.preset.empty() || !a.config_path.empty()) {
+    const PipelineConfig cfg = io::config_from_allowing_auto(a.preset, a.config_path);
+    if (!io::sensor_needs_estimate(cfg)) options.sensor = cfg.sensor;
+  }
   options.on_problem = [](const std::string& problem) {
     fmt::print(stderr, "problem: {}\n", problem);
     std::fflush(stderr);
@@ -88,6 +118,12 @@ void run_check(const CheckArgs& a) {
   };
   const auto report = io::check_sequence(a.dir, options);
   print_summary(report, a.preset);
+  if (!a.write_sensor.empty()) {
+    if (!report.sensor) throw InputError(a.dir + ": no sensor model to write: " + report.sensor_error);
+    const std::string yaml = io::estimated_sensor_yaml(*report.sensor, a.dir);
+    io::write_atomic(a.write_sensor, [&](std::ostream& o) { o << yaml; });
+    fmt::print("wrote the estimated sensor section to {}\n", a.write_sensor);
+  }
   const std::string warnings = report.warnings.empty()
                                    ? ""
                                    : fmt::format(" ({} warning{} listed above)", report.warnings.size(),
@@ -110,23 +146,34 @@ void register_check(CLI::App& app) {
   cmd->add_option(
          "sequence", args->dir,
          "folder with velodyne/*.bin (KITTI) or *.pcd scans; optional labels/, poses.txt, calib.txt, "
-         "times.txt; or a rosbag (.bag) of sensor_msgs/PointCloud2")
+         "times.txt; a bag (.bag, .db3, .mcap, rosbag2 folder) of PointCloud2 or raw packets; a capture "
+         "(.pcap, .pcapng)")
       ->required();
-  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
-  cmd->add_option(
-      "--preset", args->preset,
-      "sensor you expect (HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128): scans that do not fit it are "
-      "problems, as in `dloam run`");
+  add_input_options(cmd, args->input);
+  cmd->add_option("--preset", args->preset,
+                  "sensor you expect (" + sensor_preset_list() +
+                      "; auto: estimated): scans that do not fit it are "
+                      "problems, as in `dloam run`; warns if the data's beams differ from it");
   cmd->add_option("--config,-c", args->config_path,
-                  "YAML config whose sensor the scans must fit, as in `dloam run`")
+                  "YAML config whose sensor the scans must fit, as in `dloam run`; its "
+                  "sensor.vertical_angle_correction_deg is applied before estimating (e.g. 0.22 for KITTI)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--write-sensor", args->write_sensor,
+                  "write the estimated sensor model as a YAML sensor section (for --config); fails when "
+                  "the scans do not determine one");
   cmd->footer(
       "Reads every scan fully and every label, pose, time and calibration file; reports each problem\n"
       "with its file name and keeps going. Exit status 0 when everything is readable and consistent.\n"
+      "The sensor model (beams, origin heights, columns, range limits, scan rate) is estimated from\n"
+      "12 scans spread over the sequence and compared with the built-in presets.\n"
       "Examples:\n"
       "  dloam check ../shared/data/kitti-raw-0005\n"
       "  dloam check recordings/campus_pcd --preset VLP-16\n"
-      "  dloam check drive.bag --topic /velodyne_points");
+      "  dloam check recordings/wide_pcd --write-sensor wide.yaml && dloam run recordings/wide_pcd --config "
+      "wide.yaml --out out\n"
+      "  dloam check drive.bag --topic /velodyne_points\n"
+      "  dloam check vlp16.pcap\n"
+      "  dloam check os1.pcap --metadata os1.json");
   cmd->callback([args] { run_check(*args); });
 }
 

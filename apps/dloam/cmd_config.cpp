@@ -1,11 +1,13 @@
 // `dloam config dump`: prints the full YAML configuration (defaults, a sensor preset, a config
 // file on top), every parameter with a comment, ready to edit and pass to `dloam run --config`.
+// `dloam config presets`: lists the built-in sensor presets with the source of each table.
 #include <fmt/core.h>
 
 #include <memory>
 #include <string>
 
 #include "commands.hpp"
+#include "dloam/core/sensor.hpp"
 #include "dloam/io/config_yaml.hpp"
 
 namespace dloam::app {
@@ -19,6 +21,17 @@ void run_dump(const DumpArgs& a) {
   fmt::print("{}", io::dump_config(io::config_from(a.preset, a.config_path), a.section));
 }
 
+void run_presets() {
+  for (const SensorPresetInfo& p : sensor_preset_info())
+    fmt::print("{:<12} {:>3} beams  {:6.2f} .. {:6.2f} deg  {:>4} columns  {}\n", p.name, p.beams,
+               p.lowest_deg, p.highest_deg, p.columns, p.source);
+  fmt::print(
+      "\nRange limits other than those of HDL-64E, HDL-32E, VLP-16, OS1-64 and OS1-128 are generous round\n"
+      "values, not from the tables.\n"
+      "Also: custom (a sensor section given by its keys alone) and auto (estimated from the data by\n"
+      "dloam run / dloam check; `dloam check SEQUENCE --write-sensor FILE` writes it).\n");
+}
+
 }  // namespace
 
 void register_config(CLI::App& app) {
@@ -26,8 +39,7 @@ void register_config(CLI::App& app) {
   cmd->require_subcommand(1);
   auto args = std::make_shared<DumpArgs>();
   auto* dump = cmd->add_subcommand("dump", "print the full configuration as commented YAML");
-  dump->add_option("--preset", args->preset,
-                   "start from this sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
+  dump->add_option("--preset", args->preset, "start from this sensor preset: " + sensor_preset_list());
   dump->add_option("--config,-c", args->config_path,
                    "YAML file applied on top (validated; unknown keys are errors)")
       ->check(CLI::ExistingFile);
@@ -41,6 +53,9 @@ void register_config(CLI::App& app) {
       "  dloam config dump --preset VLP-16 --section sensor\n"
       "  dloam config dump --config my.yaml               # check a file and show the effective values");
   dump->callback([args] { run_dump(*args); });
+  auto* presets =
+      cmd->add_subcommand("presets", "list the built-in sensor presets and where their tables come from");
+  presets->callback([] { run_presets(); });
 }
 
 }  // namespace dloam::app

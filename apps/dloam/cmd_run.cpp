@@ -21,6 +21,7 @@
 #include "dloam/io/sensor_estimate.hpp"
 #include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
+#include "input_args.hpp"
 #include "output_dir.hpp"
 #include "progress.hpp"
 #include "report.hpp"
@@ -32,15 +33,18 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunArgs {
-  std::string sequence, topic, out, config_path, preset, detector, deskew, gt_frame = "auto";
+  std::string sequence, out, config_path, preset, detector, deskew, gt_frame = "auto";
+  InputArgs input;
   std::vector<double> lengths;
   long first = 0, count = -1;
   bool drop_moving = false, overwrite = false;
 };
 
-PipelineConfig make_config(const RunArgs& a) {
-  // The preset is the starting point; the file's keys override it (as `dloam config dump`).
-  PipelineConfig cfg = io::config_from(a.preset, a.config_path);
+/// The preset is the starting point; the file's keys override it (as `dloam config dump`). A
+/// sensor preset auto stays unresolved until `estimated` is given.
+PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nullptr) {
+  PipelineConfig cfg = estimated ? io::config_from(a.preset, a.config_path, *estimated)
+                                 : io::config_from_allowing_auto(a.preset, a.config_path);
   if (!a.detector.empty()) cfg.detection.detector = a.detector;
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;
@@ -114,18 +118,14 @@ void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::s
   r.labels = std::move(labels);
 }
 
-void write_trajectories(const std::string& dir, const io::Sequence& seq, std::size_t first,
-                        const std::vector<Pose>& lidar_poses, double scan_rate_hz) {
+void write_trajectories(const std::string& dir, const io::Sequence& seq,
+                        const std::vector<ScanResult>& results, const std::vector<Pose>& lidar_poses) {
   // Same frame convention as the input's poses.txt: camera frame when calib.txt has Tr.
   const bool camera = seq.calib && seq.calib->has_Tr;
   const auto poses = camera ? io::lidar_to_camera(lidar_poses, seq.calib->Tr) : lidar_poses;
   io::write_kitti_poses(dir + "/poses.txt", poses);
   std::vector<io::StampedPose> tum;
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    const std::size_t scan = first + i;
-    tum.push_back(
-        {scan < seq.times.size() ? seq.times[scan] : static_cast<double>(scan) / scan_rate_hz, poses[i]});
-  }
+  for (std::size_t i = 0; i < poses.size(); ++i) tum.push_back({results[i].stamp, poses[i]});
   io::write_tum_poses(dir + "/poses_tum.txt", tum);
 }
 
@@ -137,6 +137,52 @@ void print_summary(const std::vector<ScanResult>& results) {
   for (std::size_t m = 0; m < mean.ms.size(); ++m)
     fmt::print("  {:<13} {:8.2f}\n", kModuleNames[m], mean.ms[m]);
   fmt::print("  => {:.1f} scans/s\n", mean[Module::kTotal] > 0 ? 1000.0 / mean[Module::kTotal] : 0.0);
+}
+
+/// How the tracking went: scans lost before the scans of the run (gaps in the stamps), steps the
+/// odometry re-initialised or could not estimate, degenerate scans.
+nlohmann::json tracking_json(const std::vector<ScanResult>& results) {
+  std::size_t gaps = 0, missed = 0, degenerate = 0, searched = 0, reinitialized = 0;
+  std::vector<std::size_t> lost;
+  double max_dt = 0.0;
+  for (const ScanResult& r : results) {
+    gaps += r.missed_scans > 0;
+    missed += static_cast<std::size_t>(r.missed_scans);
+    degenerate += r.degenerate;
+    searched += r.search_candidates > 0;
+    reinitialized += r.reinitialized;
+    if (r.lost) lost.push_back(r.index);
+    max_dt = std::max(max_dt, r.dt);
+  }
+  return {{"scans", results.size()},       {"gaps", gaps},
+          {"missed_scans", missed},        {"max_interval_s", max_dt},
+          {"searched_steps", searched},    {"reinitialized_steps", reinitialized},
+          {"lost_steps", lost.size()},     {"lost_scans", lost},
+          {"degenerate_scans", degenerate}};
+}
+
+void print_tracking(const std::vector<ScanResult>& results) {
+  const nlohmann::json t = tracking_json(results);
+  if (t["gaps"].get<std::size_t>() > 0)
+    fmt::print("gaps in the scan times: {} ({} scans missing, longest interval {:.3f} s)\n",
+               t["gaps"].get<std::size_t>(), t["missed_scans"].get<std::size_t>(),
+               t["max_interval_s"].get<double>());
+  if (t["reinitialized_steps"].get<std::size_t>() > 0)
+    fmt::print("steps re-initialised by a search (the prediction did not fit): {}\n",
+               t["reinitialized_steps"].get<std::size_t>());
+  if (t["lost_steps"].get<std::size_t>() > 0)
+    fmt::print("steps that could not be estimated (listed in metrics.json): {}\n",
+               t["lost_steps"].get<std::size_t>());
+  if (t["degenerate_scans"].get<std::size_t>() > 0)
+    fmt::print("degenerate scans: {}\n", t["degenerate_scans"].get<std::size_t>());
+}
+
+/// Adds the tracking figures to metrics.json (created when the run has no ground truth).
+void merge_tracking_summary(const std::string& path, const std::vector<ScanResult>& results) {
+  nlohmann::json j = nlohmann::json::object();
+  if (fs::exists(path)) j = nlohmann::json::parse(std::ifstream(path));
+  j["tracking"] = tracking_json(results);
+  io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
 }
 
 /// Resolves detector "auto" / the shipped model in `cfg` and loads the CNN when it is used.
@@ -205,11 +251,38 @@ std::vector<Label> file_labels(const std::vector<Label>& labels, const io::ScanI
   return out;
 }
 
+/// Sensor preset auto: the model estimated from 10 scans spread over the first 100 of the run
+/// (the file's explicit sensor keys still override it).
+PipelineConfig estimate_sensor(const RunArgs& a, const PipelineConfig& cfg, const io::Sequence& seq,
+                               std::size_t first, std::size_t last) {
+  const auto indices = io::spread_scan_indices(first, std::min(last, first + 100), 10);
+  SensorEstimationConfig estimation;
+  estimation.vertical_angle_correction_deg = cfg.sensor.vertical_angle_correction_deg;
+  const SensorModelEstimate est = io::estimate_sequence_sensor(seq, indices, estimation);
+  fmt::print("sensor auto: estimated from scans {} .. {}:\n", indices.front(), indices.back());
+  for (const auto& line : io::describe_estimate(est)) fmt::print("  {}\n", line);
+  PipelineConfig out = make_config(a, &est.sensor);
+  out.input = cfg.input;
+  return out;
+}
+
+/// The sensor model of a raw-packet recording replaces the default one when neither --preset nor
+/// the config file's sensor section chose one.
+void take_recording_sensor(PipelineConfig& cfg, const io::Sequence& seq, const RunArgs& a) {
+  if (!seq.sensor || !a.preset.empty() || io::config_file_sets(a.config_path, "sensor")) return;
+  cfg.sensor = *seq.sensor;
+  io::validate_config(cfg, "the sensor model of " + a.sequence);
+  fmt::print("sensor model from the recording: {} ({} beams, {} columns, {:.1f} Hz, {:.1f} .. {:.1f} m)\n",
+             cfg.sensor.preset, cfg.sensor.N_scan, cfg.sensor.Horizon_SCAN, cfg.sensor.scan_rate_hz,
+             cfg.sensor.min_range, cfg.sensor.max_range);
+}
+
 void run(const RunArgs& a) {
   PipelineConfig cfg = make_config(a);
-  const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
-  io::Sequence seq = io::open_sequence(a.sequence, a.topic);
+  cfg.input = apply_input_args(cfg.input, a.input);
+  io::Sequence seq = io::open_sequence(a.sequence, to_input_options(cfg.input));
   for (const auto& w : seq.warnings) fmt::print(stderr, "warning: {}\n", w);
+  take_recording_sensor(cfg, seq, a);
   if (a.gt_frame == "lidar") seq.calib.reset();  // poses.txt is LiDAR-frame: Tr is not applied
   if (a.gt_frame == "camera" && seq.has_poses() && !(seq.calib && seq.calib->has_Tr))
     throw InputError(a.sequence + ": --gt-frame camera needs calib.txt with Tr (velodyne -> camera 0)");
@@ -222,6 +295,8 @@ void run(const RunArgs& a) {
     throw InputError(a.sequence + ": --drop-labelled-moving needs ground-truth labels (labels/*.label)");
   const std::size_t last =
       a.count < 0 ? seq.size() : std::min(seq.size(), first + static_cast<std::size_t>(a.count));
+  if (io::sensor_needs_estimate(cfg)) cfg = estimate_sensor(a, cfg, seq, first, last);
+  const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
 
   // The sensor model must fit the data: judged on the first scan with enough points in range,
   // before the output folder is touched (a wrong --preset leaves nothing to clean up).
@@ -289,8 +364,7 @@ void run(const RunArgs& a) {
       break;
     }
     if (results.size() % 50 == 0)
-      write_trajectories(a.out, seq, first, poses,
-                         cfg.sensor.scan_rate_hz);  // an interrupted run keeps its poses
+      write_trajectories(a.out, seq, results, poses);  // an interrupted run keeps its poses
     progress.update(results.size(), fmt::format("{:.0f} ms/scan", results.back().times[Module::kTotal]));
   }
   if (stop.received())
@@ -316,7 +390,7 @@ void run(const RunArgs& a) {
     fmt::print(stderr, "the mapping-refined poses are unavailable ({}): writing the real-time poses\n",
                e.what());
   }
-  write_trajectories(a.out, seq, first, poses, cfg.sensor.scan_rate_hz);
+  write_trajectories(a.out, seq, results, poses);
   io::write_timing_csv(a.out + "/timing.csv", results);
   PointCloud map;
   try {
@@ -332,6 +406,7 @@ void run(const RunArgs& a) {
     loops = pipeline.loop_closures();
   } catch (const std::exception&) {  // the failure is reported above
   }
+  print_tracking(results);
   fmt::print("loop closures: {}\n", loops);
   if (seq.source) fmt::print("input: {}\n", seq.source->describe());
   if (degenerate.dropped_points)
@@ -351,6 +426,7 @@ void run(const RunArgs& a) {
     write_odometry_metrics(a.out + "/metrics.json", gt, poses, a.lengths);
   }
   if (seq.has_labels() && !results.empty()) label_stats.write(a.out + "/metrics.json");
+  merge_tracking_summary(a.out + "/metrics.json", results);
   nlohmann::json metrics = read_metrics(a.out + "/metrics.json");
   metrics["scans"] = degenerate.json();
   io::write_atomic(a.out + "/metrics.json", [&](std::ostream& o) { o << metrics.dump(2) << '\n'; });
@@ -381,7 +457,10 @@ void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run the SLAM pipeline on a sequence folder");
   cmd->footer(
       "Input: a KITTI / SemanticKITTI sequence folder (velodyne/*.bin, optional labels/, poses.txt,\n"
-      "calib.txt, times.txt), a folder of PCD files, or a rosbag of sensor_msgs/PointCloud2 (--topic).\n"
+      "calib.txt, times.txt), a folder of PCD files, a ROS 1 bag of sensor_msgs/PointCloud2, a ROS 2 bag\n"
+      "(rosbag2 folder, .db3, .mcap) of PointCloud2 or raw packets, or a pcap / pcapng capture. Raw\n"
+      "packets (Velodyne, Ouster, Hesai) give the sensor model unless --preset or the config's sensor:\n"
+      "section sets one.\n"
       "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
       "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
       "metrics.json (degenerate scans; errors against poses.txt and labels/ when the folder has them).\n"
@@ -391,16 +470,23 @@ void register_run(CLI::App& app) {
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none --overwrite\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
-      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16");
-  cmd->add_option("SEQUENCE_DIR", args->sequence, "sequence folder, or a rosbag (.bag)")
+      "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16\n"
+      "  dloam run my_pcds --out out/mine --preset auto      # sensor model estimated from the first scans\n"
+      "  dloam run vlp16.pcap --out out/vlp16\n"
+      "  dloam run os1.pcap --metadata os1.json --returns strongest --out out/os1\n"
+      "  dloam run drive_bag/ --topic /points --out out/drive   # rosbag2 folder (.db3 or .mcap inside)");
+  cmd->add_option("SEQUENCE_DIR", args->sequence,
+                  "sequence folder, bag (.bag, .db3, .mcap, rosbag2 folder) or capture (.pcap, .pcapng)")
       ->required()
       ->check(CLI::ExistingPath);
-  cmd->add_option("--topic", args->topic, "rosbag: the PointCloud2 topic (default: the only one)");
+  add_input_options(cmd, args->input);
   cmd->add_option("--out,-o", args->out, "output folder")->required();
   cmd->add_flag("--overwrite", args->overwrite, "delete the outputs of an earlier run in --out first");
   cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--preset", args->preset, "sensor preset: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128");
+  cmd->add_option("--preset", args->preset,
+                  "sensor preset: " + sensor_preset_list() +
+                      "; or auto: estimated from the first scans (see `dloam check --write-sensor`)");
   cmd->add_option("--detector", args->detector, "dynamic-object detector: none, geometric or cnn")
       ->check(CLI::IsMember({"none", "geometric", "cnn"}));
   cmd->add_flag(

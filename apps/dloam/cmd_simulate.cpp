@@ -1,7 +1,9 @@
 // `dloam simulate`: renders a dynamic-scene sequence with the rolling-shutter LiDAR simulator
 // (src/dloam/sim) and writes it in the SemanticKITTI layout: velodyne/*.bin, labels/*.label,
 // poses.txt (camera frame, relative to the first scan, mid-sweep poses), calib.txt (KITTI
-// odometry's Tr), times.txt, and scenario.json describing the parameters and the objects.
+// odometry's Tr), times.txt, and scenario.json describing the parameters and the objects. With
+// --keep-every / --drop only some of the simulated sweeps are written (renumbered), with their
+// true start times in times.txt.
 #include <fmt/core.h>
 
 #include <filesystem>
@@ -13,6 +15,7 @@
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/kitti.hpp"
+#include "dloam/io/thin.hpp"
 #include "dloam/sim/scenario.hpp"
 #include "dloam/sim/simulator.hpp"
 #include "progress.hpp"
@@ -24,11 +27,12 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct SimulateArgs {
-  std::string scenario = "urban", out, preset = "HDL-64E";
+  std::string scenario = "urban", out, preset = "HDL-64E", platform = "car";
   std::string config;  ///< YAML whose sensor section is simulated (over the preset); empty: the preset
   sim::ScenarioParams params;
   double noise = 0.02, dropout = 0.01;
   bool overwrite = false;
+  io::ThinOptions thin;
 };
 
 // KITTI odometry sequences 00-02: camera projections and Tr (velodyne -> rectified camera 0).
@@ -71,7 +75,8 @@ json path_json(const sim::Path& path, double s_begin, double s_end) {
   return pts;
 }
 
-json describe(const SimulateArgs& a, const sim::Simulator& sim, const Pose& first) {
+json describe(const SimulateArgs& a, const sim::Simulator& sim, const Pose& first,
+              const std::vector<std::size_t>& kept) {
   const sim::World& w = sim.world();
   const double duration = a.params.frames * w.frame_period;
   json actors = json::array();
@@ -89,6 +94,7 @@ json describe(const SimulateArgs& a, const sim::Simulator& sim, const Pose& firs
                       {"speed_keys_t_v", keys},
                       {"path_xy", path_json(x.path, x.s0 + x.profile.distance(0.0),
                                             x.s0 + x.profile.distance(duration))}});
+    if (!x.role.empty()) actors.back()["role"] = x.role;
   }
   json statics = json::array();
   for (const sim::StaticObject& o : w.objects)
@@ -99,7 +105,7 @@ json describe(const SimulateArgs& a, const sim::Simulator& sim, const Pose& firs
                        {"dims_lwh", {o.dims.length, o.dims.width, o.dims.height}}});
   const auto& e = w.ego;
   const auto& s = sim.options().sensor;
-  return {
+  json d = {
       {"generator", "dloam simulate"},
       {"scenario", a.scenario},
       {"frames", a.params.frames},
@@ -131,6 +137,30 @@ json describe(const SimulateArgs& a, const sim::Simulator& sim, const Pose& firs
       {"static_triangles", w.static_mesh.size()},
       {"actors", actors},
       {"static_objects", statics}};
+  // Keys of the newer options only when used: default runs describe themselves as before.
+  const sim::ScenarioParams& p = a.params;
+  if (p.platform != sim::Platform::Car) d["platform"] = sim::to_string(p.platform);
+  if (p.swerve) d["swerve"] = true;
+  if (p.brake) d["brake"] = true;
+  if (p.kind == sim::ScenarioKind::Spin) d["spin_rate_deg_s"] = p.spin_rate_deg;
+  if (p.cleaning_actors) d["leave_after_scans"] = p.leave_after_frames();
+  if (e.body.enabled || p.brake) {
+    // The ego's actual track (lateral offsets included) and speed, at 10 Hz.
+    json track = json::array();
+    for (int i = 0; i <= static_cast<int>(std::lround(duration * 10.0)); ++i) {
+      const sim::Vec2 q = e.position(0.1 * i);
+      track.push_back({0.1 * i, q.x(), q.y(), e.profile.speed(0.1 * i)});
+    }
+    d["ego_track_t_x_y_v"] = track;
+  }
+  if (kept.size() != static_cast<std::size_t>(p.frames)) {
+    d["simulated_frames"] = p.frames;
+    d["kept_frames"] = kept;
+    d["keep_every"] = a.thin.keep_every;
+    d["drop"] = a.thin.drop;
+    d["drop_seed"] = a.thin.seed;
+  }
+  return d;
 }
 
 void prepare_output(const SimulateArgs& a) {
@@ -151,6 +181,13 @@ void prepare_output(const SimulateArgs& a) {
 
 void run(SimulateArgs a) {
   a.params.kind = sim::parse_scenario_kind(a.scenario);
+  a.params.platform = sim::parse_platform(a.platform);
+  std::vector<std::size_t> kept;
+  try {
+    kept = io::select_scans(static_cast<std::size_t>(a.params.frames), a.thin);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("simulate: ") + e.what());
+  }
   sim::LidarOptions lidar;
   lidar.sensor = io::config_from(a.preset, a.config).sensor;  // the preset, then the file's sensor keys
   lidar.range_noise = a.noise;
@@ -160,21 +197,21 @@ void run(SimulateArgs a) {
   sim::Simulator simulator(sim::make_world(a.params), lidar);
   prepare_output(a);
 
-  const int n = a.params.frames;
+  const int n = static_cast<int>(kept.size());
   std::vector<Pose> poses;
   std::vector<double> times;
   std::size_t points = 0, moving = 0;
   Progress progress("simulate", static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const sim::SimFrame f = simulator.frame(i);
-    const std::string name = io::scan_name(static_cast<std::size_t>(i));
+  for (int k = 0; k < n; ++k) {
+    const sim::SimFrame f = simulator.frame(static_cast<int>(kept[static_cast<std::size_t>(k)]));
+    const std::string name = io::scan_name(static_cast<std::size_t>(k));
     io::write_kitti_bin((fs::path(a.out) / "velodyne" / (name + ".bin")).string(), f.scan.cloud);
     io::write_labels((fs::path(a.out) / "labels" / (name + ".label")).string(), f.scan.labels);
     poses.push_back(f.pose);
     times.push_back(f.stamp);
     points += f.scan.cloud.size();
     for (Label l : f.scan.labels) moving += semantic::is_moving(l);
-    progress.update(static_cast<std::size_t>(i + 1), fmt::format("{} pts", f.scan.cloud.size()));
+    progress.update(static_cast<std::size_t>(k + 1), fmt::format("{} pts", f.scan.cloud.size()));
   }
   const Pose first = poses.front();
   for (auto& p : poses) p = first.inverse() * p;  // KITTI: relative to the first scan
@@ -183,7 +220,7 @@ void run(SimulateArgs a) {
   io::write_calib((fs::path(a.out) / "calib.txt").string(), calib);
   io::write_times((fs::path(a.out) / "times.txt").string(), times);
   io::write_atomic((fs::path(a.out) / "scenario.json").string(),
-                   [&](std::ostream& out) { out << describe(a, simulator, first).dump(1) << '\n'; });
+                   [&](std::ostream& out) { out << describe(a, simulator, first, kept).dump(1) << '\n'; });
   fmt::print("wrote {} scans to {}: {:.0f} points/scan, {:.2f} % moving, {} actors, {} static triangles\n", n,
              a.out, static_cast<double>(points) / n, 100.0 * moving / std::max<std::size_t>(points, 1),
              simulator.world().actors.size(), simulator.world().static_mesh.size());
@@ -198,17 +235,46 @@ void register_simulate(CLI::App& app) {
                          "Simulate a dynamic urban/highway drive with a rolling-shutter LiDAR and write a "
                          "SemanticKITTI-layout sequence with ground truth");
   cmd->add_option("--scenario", args->scenario,
-                  "urban (pedestrians, stop-and-go), highway (fast traffic) or loop")
-      ->check(CLI::IsMember({"urban", "highway", "loop"}, CLI::ignore_case))
+                  "urban (pedestrians, stop-and-go), highway (fast traffic), loop, spin (turning on the "
+                  "spot in the street), tunnel or open-field (a street, then a long tunnel / open "
+                  "ground, then a street)")
+      ->check(CLI::IsMember({"urban", "highway", "loop", "spin", "tunnel", "open-field"}, CLI::ignore_case))
       ->capture_default_str();
-  cmd->add_option("--frames", args->params.frames, "Number of scans (10 Hz)")
+  cmd->add_option("--platform", args->platform,
+                  "car; handheld (a person walking the urban street with the sensor at 1.5 m: stops, "
+                  "turns on the spot and looks around up to 180 deg/s, tilts) or legged (a trotting "
+                  "quadruped, sensor at 0.5 m, turns up to 90 deg/s)")
+      ->check(CLI::IsMember({"car", "handheld", "legged"}, CLI::ignore_case))
+      ->capture_default_str();
+  cmd->add_flag("--swerve", args->params.swerve,
+                "Car: lane-change swerves (lateral acceleration up to 8 m/s^2, yaw rate up to 30 deg/s)");
+  cmd->add_flag("--brake", args->params.brake,
+                "Car: hard braking at 8 m/s^2 to standstill, then accelerating again at 3 m/s^2");
+  cmd->add_option("--spin-rate", args->params.spin_rate_deg,
+                  "spin: yaw rate in deg/s (> 0 counter-clockwise), constant at every instant")
+      ->check(CLI::Range(-720.0, 720.0))
+      ->capture_default_str();
+  cmd->add_flag("--cleaning-actors", args->params.cleaning_actors,
+                "urban: add a pedestrian standing for the first half then walking away, one walking in "
+                "and standing, and a parked car that drives off after --leave-after scans");
+  cmd->add_option("--leave-after", args->params.leave_after,
+                  "Scans the scripted parked car stands before it drives off (default: a third of --frames)")
+      ->check(CLI::Range(0, 20000));
+  cmd->add_option("--keep-every", args->thin.keep_every,
+                  "Write only every N-th simulated scan (true start times in times.txt)")
+      ->check(CLI::Range(1, 20000))
+      ->capture_default_str();
+  cmd->add_option("--drop", args->thin.drop, "Drop each (kept) scan with this probability")
+      ->check(CLI::Range(0.0, 0.999))
+      ->capture_default_str();
+  cmd->add_option("--drop-seed", args->thin.seed, "Seed of the --drop draws")->capture_default_str();
+  cmd->add_option("--frames", args->params.frames, "Number of scans simulated (10 Hz)")
       ->check(CLI::Range(1, 20000))
       ->capture_default_str();
   cmd->add_option("--seed", args->params.seed, "Random seed; the same seed gives the same files")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "Output sequence folder")->required();
-  cmd->add_option("--preset", args->preset, "Sensor: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128")
-      ->capture_default_str();
+  cmd->add_option("--preset", args->preset, "Sensor: " + sensor_preset_list())->capture_default_str();
   cmd->add_option("-c,--config", args->config,
                   "YAML config whose sensor section is simulated over --preset: your own beam table, "
                   "beam origin heights, range limits (e.g. config/kitti-raw.yaml)")
@@ -220,7 +286,8 @@ void register_simulate(CLI::App& app) {
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   cmd->add_option("--speed", args->params.ego_speed,
-                  "Ego speed in m/s (default: urban 7, loop 9, highway 25)")
+                  "Ego speed in m/s (default: urban 7, loop 9, highway 25, tunnel and open-field 10; "
+                  "mean walking speed: handheld 1.25, legged 1.5)")
       ->check(CLI::Range(0.0, 50.0));
   cmd->add_option("--noise", args->noise, "Range noise sigma in m")
       ->check(CLI::Range(0.0, 0.999))
@@ -238,7 +305,13 @@ void register_simulate(CLI::App& app) {
       "  dloam simulate --scenario highway --frames 300 --traffic 2 --out sim/highway\n"
       "  dloam simulate --scenario loop --frames 1200 --preset HDL-32E --out sim/loop\n"
       "  dloam simulate --scenario urban --frames 100 --config config/kitti-raw.yaml --out sim/kitti-like\n"
-      "  dloam simulate --scenario urban --frames 50 --preset VLP-16 --speed 15 --noise 0 --out sim/fast");
+      "  dloam simulate --scenario urban --frames 50 --preset VLP-16 --speed 15 --noise 0 --out sim/fast\n"
+      "  dloam simulate --scenario urban --platform handheld --frames 300 --out sim/handheld\n"
+      "  dloam simulate --scenario highway --swerve --brake --frames 300 --out sim/highway-events\n"
+      "  dloam simulate --scenario spin --spin-rate 90 --traffic 0 --frames 40 --out sim/spin\n"
+      "  dloam simulate --scenario tunnel --frames 600 --out sim/tunnel\n"
+      "  dloam simulate --scenario urban --cleaning-actors --leave-after 30 --frames 100 --out sim/cleaning\n"
+      "  dloam simulate --scenario urban --frames 200 --keep-every 3 --drop 0.1 --out sim/urban-thin");
   cmd->callback([args] { run(*args); });
 }
 

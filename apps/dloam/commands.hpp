@@ -6,12 +6,14 @@
 namespace dloam::app {
 
 void register_simulate(CLI::App& app);
+void register_thin(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_check(CLI::App& app);
 void register_config(CLI::App& app);
 void register_run(CLI::App& app);
 void register_calibrate(CLI::App& app);  ///< calibrate-beams
-void register_train(CLI::App& app);      ///< only with LibTorch (DLOAM_WITH_TORCH)
-void register_sweep(CLI::App& app);      ///< only with LibTorch (DLOAM_WITH_TORCH)
+void register_convert(CLI::App& app);
+void register_train(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)
+void register_sweep(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)
 
 }  // namespace dloam::app

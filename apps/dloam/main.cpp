@@ -21,13 +21,17 @@ int main(int argc, char** argv) {
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005\n"
       "  dloam eval odometry GT/poses.txt out/0005/poses.txt --lengths 5,10,20,30\n"
       "  dloam check ../shared/data/kitti-raw-0005\n"
+      "  dloam thin ../shared/data/kitti-raw-0005 --out thin/0005-every2 --keep-every 2\n"
+      "  dloam run vlp16.pcap --out out/vlp16\n"
       "Run `dloam COMMAND --help` for each command.");
   dloam::app::register_simulate(app);
+  dloam::app::register_thin(app);
   dloam::app::register_eval(app);
   dloam::app::register_check(app);
   dloam::app::register_config(app);
   dloam::app::register_run(app);
   dloam::app::register_calibrate(app);
+  dloam::app::register_convert(app);
 #ifdef DLOAM_WITH_TORCH
   dloam::app::register_train(app);
   dloam::app::register_sweep(app);

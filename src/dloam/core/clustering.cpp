@@ -27,7 +27,7 @@ struct JoinTest {
 }  // namespace
 
 ClusterResult cluster_range_image(const RangeImage& image, const std::vector<std::uint8_t>& ground_mask,
-                                  const SensorConfig& sensor, const SegmentationConfig& config) {
+                                  const SensorConfig& sensor, const ClusteringConfig& config) {
   const int rows = image.rows, cols = image.cols;
   ClusterResult out;
   out.label.assign(image.range.size(), kOutlierLabel);

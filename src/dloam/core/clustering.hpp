@@ -13,9 +13,17 @@
 
 #include "dloam/core/range_image.hpp"
 #include "dloam/core/sensor.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.C range-image clustering.
+struct ClusteringConfig {
+  double segment_theta_deg =
+      10.0;  ///< angle-based clustering threshold (Bogoslavskyi's 10; LeGO-LOAM's 60 shatters 64-beam scans)
+  int N_min_cluster = 30;       ///< clusters with fewer points are outliers (LeGO-LOAM's 30)
+  int N_min_cluster_small = 5;  ///< ... unless they have this many points spanning
+  int N_min_cluster_rows = 3;   ///< ... at least this many rows
+};
 
 /// Pixel labels of a segmented range image.
 inline constexpr int kGroundLabel = -1;  ///< ground pixel
@@ -31,6 +39,6 @@ struct ClusterResult {
 /// numbered 1..m in the order of their first pixel (row-major scan), so the result is
 /// deterministic. `ground_mask` (rows*cols, nonzero = ground) may be empty.
 ClusterResult cluster_range_image(const RangeImage& image, const std::vector<std::uint8_t>& ground_mask,
-                                  const SensorConfig& sensor, const SegmentationConfig& config);
+                                  const SensorConfig& sensor, const ClusteringConfig& config);
 
 }  // namespace dloam

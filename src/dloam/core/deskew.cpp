@@ -8,6 +8,13 @@
 
 namespace dloam {
 
+Pose ScanInterval::sweep_motion(const Pose& step) const {
+  const double s = sweep / dt;
+  return std::abs(s - 1.0) < 1e-9 ? step : scale_motion(step, s);
+}
+
+int ScanInterval::missed_scans() const { return std::max(0, static_cast<int>(std::lround(dt / sweep)) - 1); }
+
 std::vector<double> point_times(const PointCloud& cloud, bool use_channel) {
   std::vector<double> t(cloud.size());
   if (use_channel && cloud.has_time()) {

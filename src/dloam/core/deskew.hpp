@@ -2,11 +2,32 @@
 // reference time of its sweep by the linearly interpolated inter-scan motion.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "dloam/core/types.hpp"
 
 namespace dloam {
+
+/// III.D.2 Motion-distortion removal (eq. 12).
+struct DeskewConfig {
+  bool enabled = true;
+  /// "auto": the data's per-point time channel when present, else from the azimuth.
+  /// "azimuth": always from the azimuth. "none": no time, no de-skew.
+  std::string time_source = "auto";
+};
+
+/// The timing of a scan: the time since the previous scan and the duration of its own sweep. A
+/// sensor that drops scans still sweeps in 1 / scan_rate_hz, while the motion between the scans
+/// kept spans several sweeps: the de-skew must use only the part of the step that falls in the sweep.
+struct ScanInterval {
+  double dt = 0.1;     ///< s since the previous scan
+  double sweep = 0.1;  ///< s that this scan's sweep lasts (1 / scan_rate_hz)
+  /// The motion over the sweep when the sensor moved by `step` over dt at constant velocity.
+  [[nodiscard]] Pose sweep_motion(const Pose& step) const;
+  /// Sweeps that fit in the interval beyond this one: scans lost before this scan (0 when none).
+  [[nodiscard]] int missed_scans() const;
+};
 
 /// Per-point time in [0, 1) of the sweep: the data's time channel when `use_channel` and present,
 /// else from the azimuth (the sweep starts at the rear and turns clockwise, see range_image.hpp).

@@ -26,6 +26,14 @@ ClusterVotes vote_clusters(const SegmentationResult& seg, const SpeedMatrix& S, 
   return v;
 }
 
+DetectionConfig thresholds_over(const DetectionConfig& config, double dt) {
+  DetectionConfig c = config;
+  c.v_static *= dt;
+  c.v_ground *= dt;
+  c.v_max *= dt;
+  return c;
+}
+
 DetectionResult detect_dynamic(const SegmentationResult& seg, const SpeedMatrix& S,
                                const DetectionConfig& config) {
   if (S.speed.size() != seg.pixel_label.size())

@@ -9,9 +9,23 @@
 
 #include "dloam/core/segmentation.hpp"
 #include "dloam/core/types.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.E Feature extraction (smoothness eq. 14).
+struct FeatureConfig {
+  int S = 10;     ///< |S|, neighbours in the same row (half on each side)
+  int N_div = 6;  ///< sub-images per row
+  int N_fe = 2;   ///< sharpest edges per sub-image row (f_e)
+  int N_Fe = 40;  ///< edges per sub-image row (F_e)
+  int N_fp = 4;   ///< flattest ground planes per sub-image row (f_p)
+  int N_Fp = 80;  ///< (unused cap kept for the paper's name; F_p takes all remaining flat points)
+  double c_th =
+      0.005;  ///< edge / plane threshold on c (eq. 14 is range-normalised: a 90 deg corner at
+              ///< 2048 columns gives c ~ 0.009, 2 cm noise at 5 m ~ 0.004; LeGO's 0.1 is on another scale)
+  bool double_pseudo_static = true;  ///< double features in sub-images with type-2 pseudo-static objects
+  double plane_leaf_size = 0.2;      ///< voxel size of F_p (less-flat) downsampling
+};
 
 /// Per-pixel inputs from the dynamic-object detection (rows*cols each; empty = none).
 struct FeatureMask {

@@ -37,7 +37,7 @@ void fit_plane(const std::vector<Vec3>& points, const std::vector<int>& idx, Gro
 
 }  // namespace
 
-int ground_search_rows(const SensorConfig& sensor, const SegmentationConfig& config) {
+int ground_search_rows(const SensorConfig& sensor, const GroundConfig& config) {
   if (config.N_ground_rows > 0) return std::min(config.N_ground_rows, sensor.N_scan);
   int rows = 0;
   while (rows < sensor.N_scan && sensor.beam_elevation_deg(rows) <= -1.0) ++rows;
@@ -45,7 +45,7 @@ int ground_search_rows(const SensorConfig& sensor, const SegmentationConfig& con
 }
 
 GroundResult extract_ground(const std::vector<Vec3>& points, const RangeImage& image,
-                            const SensorConfig& sensor, const SegmentationConfig& config, double plane_radius,
+                            const SensorConfig& sensor, const GroundConfig& config, double plane_radius,
                             double max_height) {
   GroundResult out;
   out.mask.assign(image.range.size(), 0);

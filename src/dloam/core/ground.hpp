@@ -9,9 +9,14 @@
 #include "dloam/core/range_image.hpp"
 #include "dloam/core/sensor.hpp"
 #include "dloam/core/types.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.C ground extraction (eq. 7).
+struct GroundConfig {
+  double ground_pitch_deg = 10.0;  ///< eq. 7 threshold
+  int N_ground_rows = 0;           ///< rows (from the bottom) searched for ground; 0 = beams below -1 deg
+};
 
 struct GroundResult {
   std::vector<std::uint8_t> mask;  ///< rows*cols, 1 = ground pixel
@@ -28,7 +33,7 @@ struct GroundResult {
 /// (clamped to the image); 0 = auto: every beam pointing at least 1 deg below the horizon
 /// (a sensor about 2 m high sees flat ground below -1 deg within ~115 m, i.e. within range),
 /// so beams near and above the horizon, which only hit objects, are never ground candidates.
-int ground_search_rows(const SensorConfig& sensor, const SegmentationConfig& config);
+int ground_search_rows(const SensorConfig& sensor, const GroundConfig& config);
 
 /// Eq. 7 per column over adjacent rows v, v+1 < ground_search_rows() (v, v+2 when the pixel in
 /// row v+1 is empty: range-image holes would otherwise leave ground unlabelled): both pixels valid,
@@ -39,7 +44,7 @@ int ground_search_rows(const SensorConfig& sensor, const SegmentationConfig& con
 /// that close, and ground pixels within `plane_radius` more than `max_height` above it are
 /// dropped (flat object tops).
 GroundResult extract_ground(const std::vector<Vec3>& points, const RangeImage& image,
-                            const SensorConfig& sensor, const SegmentationConfig& config,
+                            const SensorConfig& sensor, const GroundConfig& config,
                             double plane_radius = 25.0, double max_height = 0.4);
 
 }  // namespace dloam

@@ -20,17 +20,6 @@ bool old_enough(const Keyframe& kf, const Keyframe& current, const LoopParams& p
 
 }  // namespace
 
-LoopParams loop_params(const MappingConfig& config, double scan_rate_hz) {
-  LoopParams p;
-  p.search_radius = config.loop_search_radius;
-  p.min_time_s = config.loop_min_time_s;
-  p.scan_rate_hz = scan_rate_hz;
-  p.max_fitness = config.loop_max_fitness;
-  p.edge_leaf = config.edge_leaf_size;
-  p.plane_leaf = config.plane_leaf_size;
-  return p;
-}
-
 std::optional<std::size_t> find_loop_candidate(const std::vector<Keyframe>& keyframes, std::size_t current,
                                                const LoopParams& params) {
   if (current >= keyframes.size()) return std::nullopt;

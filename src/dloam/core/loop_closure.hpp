@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "dloam/core/local_map.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
 
@@ -25,9 +24,6 @@ struct LoopParams {
   double edge_leaf = 0.2;        ///< submap voxel sizes
   double plane_leaf = 0.4;
 };
-
-/// The loop parameters of a mapping configuration at a scan rate.
-LoopParams loop_params(const MappingConfig& config, double scan_rate_hz);
 
 /// Accepted loop: Z = T_candidate^-1 T_current, with T_current the pose registered to the submap.
 struct LoopConstraint {

@@ -8,6 +8,17 @@
 
 namespace dloam {
 
+LoopParams loop_params(const MappingConfig& config, double scan_rate_hz) {
+  LoopParams p;
+  p.search_radius = config.loop_search_radius;
+  p.min_time_s = config.loop_min_time_s;
+  p.scan_rate_hz = scan_rate_hz;
+  p.max_fitness = config.loop_max_fitness;
+  p.edge_leaf = config.edge_leaf_size;
+  p.plane_leaf = config.plane_leaf_size;
+  return p;
+}
+
 bool Mapper::needs_keyframe(const Pose& pose) const {
   if (local_.empty()) return true;
   const Pose rel = local_.keyframes().back().pose.inverse() * pose;

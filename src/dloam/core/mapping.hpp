@@ -11,9 +11,30 @@
 #include "dloam/core/local_map.hpp"
 #include "dloam/core/loop_closure.hpp"
 #include "dloam/core/pose_graph.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.G Mapping: scan-to-map against a local map of keyframes, and loop closure.
+struct MappingConfig {
+  int every_n_scans = 1;  ///< mapping rate = scan rate / every_n_scans (paper: 2 Hz)
+  /// Scan-to-map runs on a worker thread while the odometry goes on: the result for scan k is
+  /// integrated at scan k + latency_scans (0: at once, no thread). At most every_n_scans.
+  int latency_scans = 1;
+  int max_iterations = 15;
+  double keyframe_distance = 1.0;  ///< m between keyframes
+  double keyframe_angle_deg = 10.0;
+  double local_map_radius = 50.0;  ///< m around the current pose
+  double edge_leaf_size = 0.2;
+  double plane_leaf_size = 0.4;
+  double map_leaf_size = 0.2;  ///< global map (map.ply) voxel size
+  bool loop_closure = true;
+  double loop_search_radius = 7.0;
+  double loop_min_time_s = 30.0;
+  double loop_max_fitness = 0.3;
+};
+
+/// The loop parameters of a mapping configuration at a scan rate.
+LoopParams loop_params(const MappingConfig& config, double scan_rate_hz);
 
 struct MappingResult {
   Pose pose = Pose::Identity();  ///< refined world pose of the scan (loop-corrected when `loop` is set)

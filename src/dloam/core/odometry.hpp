@@ -8,9 +8,23 @@
 #include <memory>
 
 #include "dloam/core/registration.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.F Odometry: two-step LM (planes -> tz, roll, pitch; edges -> tx, ty, yaw).
+struct OdometryConfig {
+  int max_iterations = 25;  ///< LM iterations per step
+  /// m, nearest-feature search radius. The initial guess is T_coarse or the constant-velocity
+  /// prediction, centimetres from the truth; LOAM's 5 m (no prior) lets repeated structure
+  /// (fence posts, lamp rows) and unflagged traffic pull the estimate along the road.
+  double max_correspondence = 2.0;
+  bool weight_compensation = true;  ///< eq. 15
+  bool pseudo_static_rejection = true;
+  int N_pseudo = 5;   ///< RANSAC iterations of pseudo-static rejection
+  double beta = 0.1;  ///< fraction of worst-matching features removed per iteration
+  double pseudo_inlier_distance =
+      0.1;  ///< m: a feature with a larger residual is an outlier (stop when < beta are)
+};
 
 struct OdometryResult {
   Pose motion = Pose::Identity();  ///< T^{k -> k-1}: current scan frame -> previous scan frame
@@ -39,6 +53,8 @@ class ScanToScanOdometry {
                                         bool with_rejection = false) const;
   /// F_e / F_p of the current scan become the next scan's target.
   void set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes);
+  /// The previous scan's F_e / F_p, or null before the first scan.
+  [[nodiscard]] const FeatureMap* previous() const { return previous_.get(); }
 
  private:
   OdometryConfig config_;

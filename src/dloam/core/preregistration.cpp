@@ -138,35 +138,45 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
 
 Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score) {
+  return search_planar_motion(initial, range, step, 0.0, 0.0, score);
+}
+
+Pose search_planar_motion(const Pose& initial, double range, double step, double yaw_range, double yaw_step,
+                          const std::function<double(const Pose&)>& score) {
   const int steps = step > 0.0 ? static_cast<int>(std::floor(range / step)) : 0;
-  const auto candidate = [&](int k) {
+  const int turns = yaw_step > 0.0 ? static_cast<int>(std::floor(yaw_range / yaw_step + 1e-9)) : 0;
+  const int width = 2 * steps + 1;
+  const auto candidate = [&](int j, int k) {
     Pose T = initial;
+    if (j != 0) T.linear() = T.linear() * Eigen::AngleAxisd(j * yaw_step, Vec3::UnitZ()).toRotationMatrix();
     T.translation() += Vec3(k * step, 0.0, 0.0);
     return T;
   };
   // The candidates are independent (a full-image score each): scored in parallel, chosen in order.
-  std::vector<double> scores(static_cast<std::size_t>(2 * steps + 1));
-  tbb::parallel_for(-steps, steps + 1,
-                    [&](int k) { scores[static_cast<std::size_t>(k + steps)] = score(candidate(k)); });
-  int best_k = 0;
+  std::vector<double> scores(static_cast<std::size_t>((2 * turns + 1) * width));
+  tbb::parallel_for(0, static_cast<int>(scores.size()), [&](int c) {
+    scores[static_cast<std::size_t>(c)] = score(candidate(c / width - turns, c % width - steps));
+  });
+  int best_j = 0, best_k = 0;
   double best_score = -1.0;
-  for (int k = -steps; k <= steps; ++k) {
-    const double s = scores[static_cast<std::size_t>(k + steps)];
-    if (s > best_score || (s == best_score && std::abs(k) < std::abs(best_k))) {
-      best_score = s;
-      best_k = k;
+  for (int j = -turns; j <= turns; ++j) {
+    for (int k = -steps; k <= steps; ++k) {
+      const double s = scores[static_cast<std::size_t>((j + turns) * width + k + steps)];
+      const bool tie =
+          s == best_score && (std::abs(j) < std::abs(best_j) ||
+                              (std::abs(j) == std::abs(best_j) && std::abs(k) < std::abs(best_k)));
+      if (s > best_score || tie) {
+        best_score = s;
+        best_j = j;
+        best_k = k;
+      }
     }
   }
-  return candidate(best_k);
-}
-
-bool within_motion_gate(const Pose& change, const PreRegistrationConfig& config) {
-  return rotation_angle(change) <= config.max_rotation_change_deg * M_PI / 180.0 &&
-         translation_norm(change) <= config.max_translation_change;
+  return candidate(best_j, best_k);
 }
 
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
-                           const PreRegistrationConfig& config, bool gated) {
+                           const PreRegistrationConfig& config, const MotionGate* gate) {
   RegistrationParams p;
   p.max_iterations = 2;  // per round; the rounds continue from the previous estimate
   p.max_correspondence = 1.0;
@@ -175,8 +185,7 @@ CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, c
   FeatureSource src{thin(current.poles, 300), thin(current.planes, 400), {}, {}};
   CoarseResult r =
       trimmed_registration(src, target, predicted, std::max(1, config.N_coarse), config.trim_ratio, p);
-  // The motion gate: a jump away from the prediction that no vehicle makes in one scan.
-  if (gated && !within_motion_gate(predicted.inverse() * r.T, config)) r.valid = false;
+  if (gate && !gate->admits(predicted.inverse() * r.T)) r.valid = false;
   if (!r.valid) r.T = predicted;
   return r;
 }

@@ -7,11 +7,28 @@
 #include <functional>
 #include <vector>
 
+#include "dloam/core/motion_model.hpp"
 #include "dloam/core/registration.hpp"
 #include "dloam/core/segmentation.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.D.1 Pre-registration: PCA pole/plane objects, RANSAC/ICP between adjacent scans.
+struct PreRegistrationConfig {
+  bool enabled = true;
+  int N_PCA = 30;
+  double xi_1 = 0.85;       ///< pole: normalised lambda_1 above
+  double xi_2 = 0.1;        ///< pole: normalised lambda_2 (~lambda_3) below
+  double xi_3 = 0.95;       ///< pole: |e_1 . n_ground| above
+  double xi_4 = 0.1;        ///< plane: normalised lambda_3 below
+  double xi_5 = 0.05;       ///< plane: |e_3 . n_ground| below (normal is horizontal)
+  int N_coarse = 5;         ///< RANSAC iterations of ICP
+  double trim_ratio = 0.1;  ///< worst fraction discarded per iteration
+  /// dloam's addition: T_coarse refined by a projective point-to-plane alignment of the current
+  /// scan onto the previous range image (core/range_alignment.hpp). Eq. 13 needs the motion to a
+  /// few centimetres; the objects of a 16-beam scan give it to a decimetre and a degree.
+  bool refine = true;
+};
 
 enum class ObjectShape { kOther, kPole, kPlane };
 
@@ -58,16 +75,17 @@ CoarseResult trimmed_registration(const FeatureSource& source, const FeatureMap&
 /// (ties: the smallest |dx|). `score` is called concurrently (the candidates in parallel).
 Pose search_forward_translation(const Pose& initial, double range, double step,
                                 const std::function<double(const Pose&)>& score);
-
-/// The motion gate: whether a motion `change` (per scan) away from a prior stays within
-/// config.max_rotation_change_deg / max_translation_change.
-bool within_motion_gate(const Pose& change, const PreRegistrationConfig& config);
+/// The same over turns as well: translation(dx) * `initial` * yaw(a), a in [-yaw_range, yaw_range]
+/// by `yaw_step` (rad); ties: the smallest |a|, then the smallest |dx|.
+Pose search_planar_motion(const Pose& initial, double range, double step, double yaw_range, double yaw_step,
+                          const std::function<double(const Pose&)>& score);
 
 /// T_coarse between the object sets of the current scan and of the previous one (`target`, built
 /// from the previous ObjectSet), starting from `predicted`. Invalid (and equal to `predicted`)
-/// with too few matches or, when `gated`, when it leaves the motion gate around `predicted` (a
-/// constant-velocity prediction; the first scan pair's start is a search result, no prior).
+/// with too few matches or when it leaves `gate` around `predicted` (the motion model's gate around
+/// its prediction: a jump away from it comes from a few objects registered wrongly, co-moving
+/// traffic or repeated posts). No gate: the first scan pair, whose start is a search result.
 CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, const Pose& predicted,
-                           const PreRegistrationConfig& config, bool gated = true);
+                           const PreRegistrationConfig& config, const MotionGate* gate);
 
 }  // namespace dloam

@@ -174,6 +174,7 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
       res.degenerate = true;
       break;
     }
+    if (nf == 0) break;  // only the residuals at `initial` were asked for
 
     Eigen::MatrixXd Hs(nf, nf);
     Eigen::VectorXd gs(nf);

@@ -66,6 +66,7 @@ struct RegistrationResult {
   std::vector<double> residuals;
 };
 
+/// A `params.dof` with no free direction only evaluates: the residuals at `initial`.
 RegistrationResult register_features(const FeatureSource& src, const FeatureMap& target, const Pose& initial,
                                      const RegistrationParams& params);
 

@@ -6,12 +6,15 @@
 #include <vector>
 
 #include "dloam/core/clustering.hpp"
+#include "dloam/core/ground.hpp"
 #include "dloam/core/range_image.hpp"
 #include "dloam/core/sensor.hpp"
 #include "dloam/core/types.hpp"
-#include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// III.C Segmentation: ground by adjacent-row pitch (eq. 7), range-image clusters.
+struct SegmentationConfig : GroundConfig, ClusteringConfig {};
 
 struct SegmentationResult {
   RangeImage image;

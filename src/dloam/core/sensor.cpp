@@ -1,8 +1,7 @@
-// Sensor model: beam table, row search from each beam's origin (eq. 4 with a beam table), presets.
+// Sensor model: beam table, row search from each beam's origin (eq. 4 with a beam table).
 #include "dloam/core/sensor.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -138,78 +137,6 @@ bool BeamLookup::locate(const Vec3& p, int& row, int& neighbour) const {
   const bool above = (p.z() - offset(k)) * inv_h > beam_tan_[static_cast<std::size_t>(k)];
   neighbour = std::clamp(above ? k + 1 : k - 1, 0, rows_ - 1);
   return true;
-}
-
-namespace {
-std::vector<double> uniform(double lo, double hi, int n) {
-  std::vector<double> v(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = lo + (hi - lo) * i / (n - 1);
-  return v;
-}
-std::string upper(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-}  // namespace
-
-std::vector<std::string> sensor_preset_names() {
-  return {"HDL-64E", "HDL-32E", "VLP-16", "OS1-64", "OS1-128"};
-}
-
-SensorConfig sensor_preset(const std::string& name) {
-  SensorConfig s;
-  const std::string n = upper(name);
-  if (n == "HDL-64E") {
-    // Two laser blocks: upper 32 beams +2.0 .. -8.33 deg, lower 32 beams -8.83 .. -24.9 deg.
-    auto lower = uniform(-24.9, -8.83, 32);
-    auto upper_block = uniform(-8.33, 2.0, 32);
-    lower.insert(lower.end(), upper_block.begin(), upper_block.end());
-    s.preset = "HDL-64E";
-    s.N_scan = 64;
-    s.Horizon_SCAN = 2048;
-    s.beam_elevations_deg = lower;
-    s.Pit_bottom = -24.9;
-    s.fov_top = 2.0;
-    s.min_range = 2.5;
-    s.max_range = 120.0;
-  } else if (n == "HDL-32E") {
-    s.preset = "HDL-32E";
-    s.N_scan = 32;
-    s.Horizon_SCAN = 1800;
-    s.Pit_bottom = -30.67;
-    s.fov_top = 10.67;
-    s.min_range = 1.0;
-    s.max_range = 100.0;
-  } else if (n == "VLP-16") {
-    s.preset = "VLP-16";
-    s.N_scan = 16;
-    s.Horizon_SCAN = 1800;
-    s.Pit_bottom = -15.0;
-    s.fov_top = 15.0;
-    s.min_range = 1.0;
-    s.max_range = 100.0;
-  } else if (n == "OS1-64") {
-    s.preset = "OS1-64";
-    s.N_scan = 64;
-    s.Horizon_SCAN = 1024;
-    s.Pit_bottom = -16.6;
-    s.fov_top = 16.6;
-    s.min_range = 1.0;
-    s.max_range = 120.0;
-  } else if (n == "OS1-128") {
-    s.preset = "OS1-128";
-    s.N_scan = 128;
-    s.Horizon_SCAN = 1024;
-    s.Pit_bottom = -22.5;
-    s.fov_top = 22.5;
-    s.min_range = 1.0;
-    s.max_range = 120.0;
-  } else {
-    std::string known;
-    for (const auto& p : sensor_preset_names()) known += (known.empty() ? "" : ", ") + p;
-    throw std::invalid_argument("unknown sensor preset '" + name + "' (known: " + known + ")");
-  }
-  return s;
 }
 
 }  // namespace dloam

@@ -67,8 +67,20 @@ class BeamLookup {
   double scale_ = 1.0;           ///< bins per unit of tan(elevation)
 };
 
-/// Names of the built-in presets: HDL-64E, HDL-32E, VLP-16, OS1-64, OS1-128.
+/// A built-in preset as `dloam config presets` lists it.
+struct SensorPresetInfo {
+  std::string name;
+  std::string source;  ///< the model and where its numbers come from
+  int beams = 0;
+  double lowest_deg = 0.0, highest_deg = 0.0;
+  int columns = 0;
+};
+/// The built-in presets (core/sensor_presets.cpp, one table of data), in table order.
+std::vector<SensorPresetInfo> sensor_preset_info();
+/// Their names, in table order.
 std::vector<std::string> sensor_preset_names();
+/// The names joined by `separator` (for help texts and error messages).
+std::string sensor_preset_list(const std::string& separator = ", ");
 /// A built-in preset (case-insensitive name); throws std::invalid_argument if unknown.
 SensorConfig sensor_preset(const std::string& name);
 

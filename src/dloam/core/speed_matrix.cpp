@@ -139,8 +139,15 @@ std::vector<int> static_area_pixels(const RangeImage& current, const std::vector
 double static_area(const RangeImage& current, const std::vector<Vec3>& current_points,
                    const std::vector<int>& pixels, const Pose& current_to_previous,
                    const std::vector<float>& previous, const SensorConfig& sensor, double v_static) {
+  return static_fit(current, current_points, pixels, current_to_previous, previous, sensor, v_static)
+      .consistent;
+}
+
+StaticFit static_fit(const RangeImage& current, const std::vector<Vec3>& current_points,
+                     const std::vector<int>& pixels, const Pose& current_to_previous,
+                     const std::vector<float>& previous, const SensorConfig& sensor, double tolerance) {
   check_sizes(current, previous, sensor, "static_area");
-  double n = 0.0;
+  StaticFit fit;
   int pixel = -1;
   bool behind = false;
   const Projector proj(sensor);
@@ -148,9 +155,11 @@ double static_area(const RangeImage& current, const std::vector<Vec3>& current_p
     const int i = current.point_of_pixel[static_cast<std::size_t>(px)];
     const Vec3 q = current_to_previous * current_points[static_cast<std::size_t>(i)];
     const float s = point_speed(q, previous, proj, sensor.Horizon_SCAN, pixel, behind);
-    if (s >= 0.0f && s < v_static) n += q.squaredNorm();
+    if (s < 0.0f) continue;
+    fit.compared += q.squaredNorm();
+    if (s < tolerance) fit.consistent += q.squaredNorm();
   }
-  return n;
+  return fit;
 }
 
 }  // namespace dloam

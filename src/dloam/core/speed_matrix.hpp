@@ -55,4 +55,17 @@ double static_area(const RangeImage& current, const std::vector<Vec3>& current_p
                    const std::vector<int>& pixels, const Pose& current_to_previous,
                    const std::vector<float>& previous_range, const SensorConfig& sensor, double v_static);
 
+/// How much of the surface of `pixels` agrees with the previous range image after a motion.
+struct StaticFit {
+  double consistent = 0.0;  ///< surface (sum of r^2) whose speed is below the tolerance
+  double compared = 0.0;    ///< surface that landed on previous returns (the rest cannot be judged)
+  [[nodiscard]] double fraction() const { return compared > 0.0 ? consistent / compared : 0.0; }
+};
+/// static_area's measure with its denominator: the fraction of the compared surface that agrees
+/// within `tolerance` (m). Previous pixels of range 0 (no return, or masked out: moving objects)
+/// are not compared.
+StaticFit static_fit(const RangeImage& current, const std::vector<Vec3>& current_points,
+                     const std::vector<int>& pixels, const Pose& current_to_previous,
+                     const std::vector<float>& previous_range, const SensorConfig& sensor, double tolerance);
+
 }  // namespace dloam

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -19,6 +20,10 @@ struct PointCloud {
   std::vector<Vec3> xyz;
   std::vector<float> intensity;  ///< same size as xyz, or empty
   std::vector<float> time;       ///< per-point time in [0, 1) of the sweep, or empty
+  /// The scan's time (s: times.txt, a message stamp, the packets' clock), when known. Only
+  /// differences between scans are used: the time between two scans scales the motion prior,
+  /// the de-skew and the detection thresholds.
+  std::optional<double> stamp;
 
   [[nodiscard]] std::size_t size() const { return xyz.size(); }
   [[nodiscard]] bool empty() const { return xyz.empty(); }

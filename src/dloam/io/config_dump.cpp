@@ -104,9 +104,10 @@ std::string dump_config(const PipelineConfig& config, const std::string& section
   std::ostringstream out;
   if (section.empty()) {
     out << "# dloam configuration: every parameter of the DLOAM pipeline, named as in the paper.\n"
-           "# `sensor: {preset: NAME}` starts the sensor section from a built-in model (HDL-64E, HDL-32E,\n"
-           "# VLP-16, OS1-64, OS1-128); keys given beside it override. Keys left out keep these defaults;\n"
-           "# unknown keys are errors. Print the effective configuration with `dloam config dump`.\n";
+           "# `sensor: {preset: NAME}` starts the sensor section from a built-in model (`dloam config\n"
+           "# presets` lists them) or from the model estimated from the data (`auto`); keys given beside it\n"
+           "# override. Keys left out keep these defaults; unknown keys are errors. Print the effective\n"
+           "# configuration with `dloam config dump`.\n";
   }
   PipelineConfig c = config;  // visit() takes non-const references
   Dumper dumper{out, "", section, false};

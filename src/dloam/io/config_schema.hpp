@@ -30,8 +30,26 @@ inline constexpr double kMinLeafSize = 0.001;
 inline constexpr double kMaxSensorRange = 10000.0;
 
 template <class V>
+void visit(InputConfig& c, V& v) {
+  v("topic", c.topic, "bag topic; empty: the only PointCloud2 topic, else the only raw-packet topic",
+    Choices{});
+  v("calibration", c.calibration,
+    "Velodyne calibration YAML / Hesai angle CSV; empty: the model's nominal table", Choices{});
+  v("metadata", c.metadata,
+    "Ouster sensor metadata JSON; empty: the .json of the same name beside the recording", Choices{});
+  v("returns", c.returns, "returns kept from multi-return packets: strongest | last | first | all",
+    Choices{"strongest", "last", "first", "all"});
+  v("cut_azimuth_deg", c.cut_azimuth_deg,
+    "a scan ends where the azimuth crosses this angle (deg, sensor's own)", Range{0, 360, false, true});
+  v("port", c.port, "pcap: UDP destination port of the data; 0: the port of the first data packet",
+    within(0, 65535));
+}
+
+template <class V>
 void visit(SensorConfig& c, V& v) {
-  v("preset", c.preset, "built-in model: HDL-64E | HDL-32E | VLP-16 | OS1-64 | OS1-128", Choices{});
+  v("preset", c.preset,
+    "built-in model (dloam config presets), custom (these keys alone) or auto (estimated from the data)",
+    Choices{});
   v("N_scan", c.N_scan, "number of beams = range-image rows (eq. 4)", within(2, 512));
   v("Horizon_SCAN", c.Horizon_SCAN, "range-image columns = 2 pi / R_horiz (eq. 5)", within(16, 16384));
   v("beam_elevations_deg", c.beam_elevations_deg,
@@ -74,14 +92,25 @@ void visit(PreRegistrationConfig& c, V& v) {
   v("N_coarse", c.N_coarse, "RANSAC iterations of ICP giving T_coarse", at_least(1));
   v("trim_ratio", c.trim_ratio, "worst fraction of ICP matches dropped per iteration",
     Range{0, 1, false, true});
-  v("search_range", c.search_range, "m: forward translation searched for the first scan pair's T_coarse",
-    at_least(0));
-  v("max_rotation_change_deg", c.max_rotation_change_deg,
-    "deg: T_coarse rotating this much more than the constant-velocity prediction is rejected", at_least(0));
-  v("max_translation_change", c.max_translation_change,
-    "m: T_coarse moving this much farther than the constant-velocity prediction is rejected", at_least(0));
   v("refine", c.refine,
     "refine T_coarse by aligning the two range images (dloam's addition; sparse sensors need it)", Range{});
+}
+
+template <class V>
+void visit(MotionConfig& c, V& v) {
+  v("platform", c.platform, "car | handheld | legged: the defaults of the limits below", Choices{});
+  v("max_speed", c.max_speed, "m/s: fastest the sensor moves (the range of a step searched with no prior)",
+    above(0));
+  v("max_angular_speed_deg", c.max_angular_speed_deg, "deg/s: fastest the sensor turns", above(0));
+  v("max_acceleration", c.max_acceleration,
+    "m/s^2: velocity change the motion prior admits (an estimate beyond it is not believed)", at_least(0));
+  v("max_angular_acceleration_deg", c.max_angular_acceleration_deg,
+    "deg/s^2: turn-rate change the motion prior admits", at_least(0));
+  v("step_noise", c.step_noise, "m: estimation noise of a step, admitted on top of the accelerations",
+    at_least(0));
+  v("step_noise_deg", c.step_noise_deg, "deg: the same for rotations", at_least(0));
+  v("step_search", c.step_search,
+    "search a step without the prediction when the scan contradicts it (and the first step)", Range{});
 }
 
 template <class V>
@@ -97,11 +126,11 @@ void visit(DetectionConfig& c, V& v) {
     "dynamic-object detector: none | geometric | cnn | auto (cnn if the model exists and fits the sensor, "
     "else geometric)",
     Choices{"none", "geometric", "cnn", "auto"});
-  v("v_static", c.v_static, "static if range speed |r_k - r_k-1| (eq. 13, m per scan) is below this",
+  v("v_static", c.v_static, "m/s: static if the range speed |r_k - r_k-1| / dt (eq. 13) is below this",
     at_least(0));
-  v("v_ground", c.v_ground, "ground re-verification speed threshold (eq. 13, m per scan)", at_least(0));
+  v("v_ground", c.v_ground, "m/s: ground re-verification speed threshold (eq. 13)", at_least(0));
   v("alpha", c.alpha, "a cluster with less than alpha static points is dynamic", within(0, 1));
-  v("v_max", c.v_max, "pixels farther than this behind the previous scan's surface do not vote (m per scan)",
+  v("v_max", c.v_max, "m/s: pixels receding faster than this behind the previous surface do not vote",
     at_least(0));
   v("N_min_dynamic", c.N_min_dynamic, "clusters with fewer pixels of known speed stay static", at_least(1));
   v("pseudo_static", c.pseudo_static, "track previous labels of objects (stop-and-go, pseudo-static)",
@@ -170,9 +199,11 @@ void visit(MappingConfig& c, V& v) {
 /// Top level: one group per module, then the shared thread count.
 template <class V>
 void visit(PipelineConfig& c, V& v) {
+  v.group("input", c.input, "recordings (pcap, ROS 2 / ROS 1 bags): topic, calibration, returns");
   v.group("sensor", c.sensor, "LiDAR model: range-image projection (eqs. 4-6)");
   v.group("segmentation", c.segmentation, "III.C ground extraction (eq. 7) and clustering");
   v.group("preregistration", c.preregistration, "III.D.1 PCA pole/plane pre-registration (eqs. 8-11)");
+  v.group("motion", c.motion, "motion prior and gates in physical units (platform limits)");
   v.group("deskew", c.deskew, "III.D.2 motion-distortion removal (eq. 12)");
   v.group("detection", c.detection, "III.D.3 dynamic-object detection (eq. 13)");
   v.group("features", c.features, "III.E feature extraction (eq. 14)");

@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -19,11 +20,40 @@ using detail::Choices;
 using detail::Range;
 using detail::visit;
 
+std::string lower(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// The sensor section a preset name starts from: a built-in model, `custom`, or `auto` (the
+/// estimated model when given, else the unresolved placeholder). Throws std::invalid_argument.
+SensorConfig sensor_start(const std::string& name, const SensorConfig* estimated) {
+  const std::string n = lower(name);
+  if (n == kAutoSensor) {
+    if (estimated) return *estimated;
+    SensorConfig s;
+    s.preset = kAutoSensor;
+    return s;
+  }
+  if (n == kCustomSensor) {
+    SensorConfig s;
+    s.preset = kCustomSensor;
+    return s;
+  }
+  try {
+    return sensor_preset(name);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string(e.what()) +
+                                "; or custom (the keys alone), auto (estimated from the data)");
+  }
+}
+
 /// Fills one struct from a YAML map, remembering which keys it knows.
 struct Loader {
   const YAML::Node node;  // const: looking up an absent key must not add it
   std::string source, prefix;
   std::set<std::string> known;
+  const SensorConfig* estimated = nullptr;  ///< what sensor preset `auto` stands for (null: unresolved)
 
   [[noreturn]] void fail(const YAML::Node& at, const std::string& key_path, const std::string& what) const {
     const int line = at.Mark().line;
@@ -72,23 +102,33 @@ struct Loader {
     const YAML::Node n = node[key];
     if (!n || n.IsNull()) return;
     if (!n.IsMap()) fail(n, prefix + key, "expected a map of keys");
+    // A preset key (sensor.preset, motion.platform) first replaces the whole section by the
+    // preset's values; the other keys then override them.
     std::string preset;
-    if constexpr (std::is_same_v<S, SensorConfig>) {
-      if (n["preset"]) {
-        read(n["preset"], preset, prefix + key + ".preset");
-        try {
-          s = sensor_preset(preset);
-        } catch (const std::invalid_argument& e) {
-          fail(n["preset"], prefix + key + ".preset", e.what());
-        }
-        preset = s.preset;  // canonical spelling
+    const auto apply_preset = [&](const char* preset_key, auto make, std::string S::*name) {
+      if (!n[preset_key]) return;
+      read(n[preset_key], preset, prefix + key + "." + preset_key);
+      try {
+        s = make(preset);
+      } catch (const std::invalid_argument& e) {
+        fail(n[preset_key], prefix + key + "." + preset_key, e.what());
       }
-    }
-    Loader sub{n, source, prefix + key + ".", {}};
+      preset = s.*name;  // canonical spelling
+    };
+    if constexpr (std::is_same_v<S, SensorConfig>)
+      apply_preset(
+          "preset", [&](const std::string& name) { return sensor_start(name, estimated); },
+          &SensorConfig::preset);
+    if constexpr (std::is_same_v<S, MotionConfig>)
+      apply_preset("platform", motion_preset, &MotionConfig::platform);
+    Loader sub{n, source, prefix + key + ".", {}, estimated};
     visit(s, sub);
     sub.reject_unknown_keys();
     if constexpr (std::is_same_v<S, SensorConfig>) {
       if (!preset.empty()) s.preset = preset;
+    }
+    if constexpr (std::is_same_v<S, MotionConfig>) {
+      if (!preset.empty()) s.platform = preset;
     }
   }
 
@@ -187,20 +227,19 @@ struct Validator {
     visit(s, sub);
   }
 };
-}  // namespace
 
-PipelineConfig default_config(const std::string& preset) {
+PipelineConfig default_config_with(const std::string& preset, const SensorConfig* estimated) {
   PipelineConfig config;
   try {
-    config.sensor = sensor_preset(preset.empty() ? "HDL-64E" : preset);
+    config.sensor = sensor_start(preset.empty() ? "HDL-64E" : preset, estimated);
   } catch (const std::invalid_argument& e) {
     throw InputError(std::string("preset: ") + e.what());
   }
   return config;
 }
 
-PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source,
-                                       const PipelineConfig& base) {
+PipelineConfig load_with(const std::string& yaml, const std::string& source, const PipelineConfig& base,
+                         const SensorConfig* estimated) {
   const Documents documents = count_documents(yaml);
   if (documents.count > 1)
     throw InputError(source + ":" + std::to_string(documents.second_line) +
@@ -218,12 +257,29 @@ PipelineConfig config_from_yaml_string(const std::string& yaml, const std::strin
     throw InputError(source + ": is not a YAML map of sections (sensor, mapping, ...)");
   if (root && !root.IsNull()) {
     if (!root.IsMap()) throw InputError(source + ": expected a YAML map of sections (sensor, mapping, ...)");
-    Loader loader{root, source, "", {}};
+    Loader loader{root, source, "", {}, estimated};
     visit(config, loader);
     loader.reject_unknown_keys();
   }
   validate_config(config, source);
   return config;
+}
+
+PipelineConfig config_with(const std::string& preset, const std::string& yaml_path,
+                           const SensorConfig* estimated) {
+  const PipelineConfig base = default_config_with(preset, estimated);
+  return yaml_path.empty() ? base
+                           : load_with(read_file(yaml_path, kMaxConfigFileBytes), yaml_path, base, estimated);
+}
+}  // namespace
+
+bool sensor_needs_estimate(const PipelineConfig& config) { return config.sensor.preset == kAutoSensor; }
+
+PipelineConfig default_config(const std::string& preset) { return default_config_with(preset, nullptr); }
+
+PipelineConfig config_from_yaml_string(const std::string& yaml, const std::string& source,
+                                       const PipelineConfig& base) {
+  return load_with(yaml, source, base, nullptr);
 }
 
 PipelineConfig load_config(const std::string& yaml_path) { return load_config(yaml_path, default_config()); }
@@ -232,9 +288,32 @@ PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& b
   return config_from_yaml_string(read_file(yaml_path, kMaxConfigFileBytes), yaml_path, base);
 }
 
+PipelineConfig config_from_allowing_auto(const std::string& preset, const std::string& yaml_path) {
+  return config_with(preset, yaml_path, nullptr);
+}
+
 PipelineConfig config_from(const std::string& preset, const std::string& yaml_path) {
-  PipelineConfig base = default_config(preset);
-  return yaml_path.empty() ? base : load_config(yaml_path, base);
+  PipelineConfig config = config_with(preset, yaml_path, nullptr);
+  if (sensor_needs_estimate(config))
+    throw InputError((yaml_path.empty() ? std::string("--preset auto") : yaml_path + ": sensor preset auto") +
+                     ": the sensor model is estimated from the data only by `dloam run` and `dloam check`; "
+                     "write it to a file with `dloam check SEQUENCE --write-sensor FILE` and use that");
+  return config;
+}
+
+PipelineConfig config_from(const std::string& preset, const std::string& yaml_path,
+                           const SensorConfig& estimated) {
+  return config_with(preset, yaml_path, &estimated);
+}
+
+bool config_file_sets(const std::string& yaml_path, const std::string& section) {
+  if (yaml_path.empty()) return false;
+  try {
+    const YAML::Node root = YAML::Load(read_file(yaml_path, kMaxConfigFileBytes));
+    return root && root.IsMap() && root[section];
+  } catch (const YAML::Exception&) {
+    return false;  // load_config() reports the syntax error
+  }
 }
 
 void validate_config(const PipelineConfig& config, const std::string& source) {

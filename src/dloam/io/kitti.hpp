@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "dloam/core/sensor.hpp"
 #include "dloam/core/types.hpp"
+#include "dloam/drivers/scanner.hpp"
 
 namespace dloam::io {
 
@@ -89,8 +91,11 @@ struct Sequence {
   std::vector<std::string> label_files;      ///< labels/NNNNNN.label, empty when absent
   std::optional<Calib> calib;
   std::vector<Pose> poses;            ///< poses.txt as stored (camera frame when calib has Tr), or empty
-  std::vector<double> times;          ///< times.txt, or empty
+  std::vector<double> times;          ///< times.txt, or empty; recordings: the scans' stamps (s)
   std::vector<std::string> warnings;  ///< oddities that do not stop a run (e.g. a gap in the scan numbers)
+  /// The sensor model a recording of raw packets gives (the vendor decoder's Scanner::sensor()):
+  /// front-ends use it when neither a preset nor a config's sensor section is given.
+  std::optional<SensorConfig> sensor;
 
   [[nodiscard]] std::size_t size() const { return scan_files.size(); }
   [[nodiscard]] bool has_labels() const { return !label_files.empty(); }
@@ -102,7 +107,8 @@ struct Sequence {
   /// Ground-truth poses of the LiDAR (Tr applied when calib has Tr). Throws InputError when
   /// poses_frame_unknown().
   [[nodiscard]] std::vector<Pose> lidar_poses() const;
-  /// Scan i; `info` (optional) receives what the reader dropped.
+  /// Scan i, with its stamp from `times` when the sequence has them; `info` (optional) receives
+  /// what the reader dropped.
   [[nodiscard]] PointCloud read_scan(std::size_t i, ScanInfo* info = nullptr) const;
   /// The labels of scan i's points: `n_points` of them, or, with the ScanInfo of a scan that
   /// dropped points, the labels of the kept points out of the file's.
@@ -112,12 +118,25 @@ struct Sequence {
   /// scan_name(i) for single-file sequences.
   [[nodiscard]] std::string output_name(std::size_t i) const;
 };
+/// How a recording is read (pcap captures, ROS 2 bags; `topic` also applies to ROS 1 bags).
+struct InputOptions {
+  std::string topic;        ///< bag topic; empty: the only PointCloud2 topic, else the only packet topic
+  std::string calibration;  ///< Velodyne calibration YAML / Hesai angle CSV; empty: the model's nominal table
+  std::string metadata;  ///< Ouster sensor metadata JSON; empty: the .json of the same name beside the file
+  drivers::ScannerOptions scan;  ///< returns, cut azimuth, range limits
+  std::uint16_t port = 0;  ///< pcap: UDP destination port of the data; 0: the port of the first data packet
+};
+
 /// Lists a sequence folder and checks that counts and names agree (poses, times, labels vs
 /// scans); reads the small text files. Scans are KITTI .bin in velodyne/, or PCD files in
 /// velodyne/ or directly in `dir`.
-/// A regular file is opened by the reader registered for its extension (a rosbag, with `topic`
-/// choosing the stream: empty = the only PointCloud2 topic).
+/// Recordings: a pcap / pcapng capture, a ROS 2 bag (a rosbag2 folder with metadata.yaml, a .db3
+/// or .mcap file) of PointCloud2 or raw packets, a ROS 1 .bag (registered by dloam_ros).
 Sequence open_sequence(const std::string& dir, const std::string& topic = {});
+Sequence open_sequence(const std::string& dir, const InputOptions& input);
+
+/// True when `path` is read as a recording (a file, or a rosbag2 folder), not a sequence folder.
+bool is_recording(const std::string& path);
 
 /// Opens a sequence stored in one file; `topic` as in open_sequence().
 using FileSequenceOpener = std::function<Sequence(const std::string& path, const std::string& topic)>;

@@ -227,7 +227,8 @@ PointCloud read_pcd(const std::string& path, ScanInfo* info) {
   return parse_pcd(read_file(path), path, info);
 }
 
-void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encoding) {
+void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encoding,
+               const std::string& time_field) {
   const bool with_i = cloud.has_intensity(), with_t = cloud.has_time();
   write_atomic(path, [&](std::ostream& out) {
     const std::size_t n_fields = 3 + (with_i ? 1 : 0) + (with_t ? 1 : 0);
@@ -238,9 +239,10 @@ void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encodi
       types += " F";
     }
     out << "# .PCD v0.7 - Point Cloud Data file format (written by dloam)\nVERSION 0.7\nFIELDS x y z"
-        << (with_i ? " intensity" : "") << (with_t ? " time" : "") << "\nSIZE" << fours << "\nTYPE" << types
-        << "\nCOUNT" << ones << "\nWIDTH " << cloud.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS "
-        << cloud.size() << "\nDATA " << (encoding == Encoding::kBinary ? "binary" : "ascii") << '\n';
+        << (with_i ? " intensity" : "") << (with_t ? " " + time_field : "") << "\nSIZE" << fours << "\nTYPE"
+        << types << "\nCOUNT" << ones << "\nWIDTH " << cloud.size()
+        << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << cloud.size() << "\nDATA "
+        << (encoding == Encoding::kBinary ? "binary" : "ascii") << '\n';
     std::vector<float> record(n_fields);
     char buf[24];
     for (std::size_t i = 0; i < cloud.size(); ++i) {

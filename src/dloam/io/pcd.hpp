@@ -28,7 +28,9 @@ PointCloud parse_pcd(const std::string& bytes, const std::string& name, ScanInfo
 /// fractions, else rescaled linearly from [min, max]. Shared by the PCD and rosbag readers.
 std::vector<float> to_sweep_fraction(const std::vector<double>& t);
 
-/// Writes float32 x y z, intensity (when present) and time (when present), atomically.
-void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encoding = Encoding::kBinary);
+/// Writes float32 x y z, intensity (when present) and time (when present, as field `time_field`),
+/// atomically.
+void write_pcd(const std::string& path, const PointCloud& cloud, Encoding encoding = Encoding::kBinary,
+               const std::string& time_field = "time");
 
 }  // namespace dloam::io

@@ -1,4 +1,4 @@
-// Sensor guess from the elevation histogram: field of view and beam peaks vs the presets.
+// Sensor model of a sequence: scans read, estimate, YAML section and summary lines.
 #include "dloam/io/sensor_estimate.hpp"
 
 #include <algorithm>
@@ -7,84 +7,89 @@
 
 #include "dloam/core/preprocess.hpp"
 #include "dloam/core/sensor.hpp"
+#include "dloam/io/config_yaml.hpp"
 
 namespace dloam::io {
 
-void ElevationHistogram::add(const PointCloud& cloud, double min_range) {
-  for (const auto& p : cloud.xyz) {
-    const double r = std::hypot(p.x(), p.y());
-    if (r < min_range) continue;
-    const double e = std::atan2(p.z(), r) * 180.0 / M_PI;
-    const auto bin = static_cast<std::size_t>(std::clamp((e + 90.0) / bin_deg, 0.0, counts.size() - 1.0));
-    ++counts[bin];
-    ++total;
-  }
-}
-
-double ElevationHistogram::quantile(double q) const {
-  const double target = q * static_cast<double>(total);
-  double sum = 0.0;
-  for (std::size_t i = 0; i < counts.size(); ++i) {
-    sum += static_cast<double>(counts[i]);
-    if (sum >= target) return -90.0 + (static_cast<double>(i) + 0.5) * bin_deg;
-  }
-  return 90.0;
-}
-
 namespace {
-/// Peaks of the [1 2 1]-smoothed histogram: bins that are the maximum within +-2 bins and
-/// rise clearly (by a quarter) above the lowest bin on each side before the next peak.
-int count_peaks(const std::vector<std::size_t>& counts) {
-  const std::size_t n = counts.size();
-  std::vector<double> s(n, 0.0);
-  for (std::size_t i = 1; i + 1 < n; ++i)
-    s[i] = 0.25 * static_cast<double>(counts[i - 1] + 2 * counts[i] + counts[i + 1]);
-  const double floor_level = 1e-4 * *std::max_element(s.begin(), s.end());
-  int peaks = 0;
-  double valley = 0.0;    // lowest value since the last accepted peak
-  double candidate = -1;  // current peak height waiting for its right-hand valley
-  for (std::size_t i = 2; i + 2 < n; ++i) {
-    const bool local_max =
-        s[i] > floor_level && s[i] >= s[i - 1] && s[i] >= s[i - 2] && s[i] > s[i + 1] && s[i] >= s[i + 2];
-    if (candidate < 0) {
-      valley = std::min(valley, s[i]);
-      if (local_max && s[i] > 1.25 * valley + floor_level) candidate = s[i];
-    } else {
-      candidate = std::max(candidate, s[i]);
-      if (s[i] < 0.8 * candidate) {  // fell clearly after the peak: accept it
-        ++peaks;
-        candidate = -1;
-        valley = s[i];
-      }
-    }
-  }
-  return peaks + (candidate >= 0 ? 1 : 0);
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), fmt, a, b, c, d);
+  return buf;
 }
 }  // namespace
 
-SensorEstimate estimate_sensor(const ElevationHistogram& h) {
-  if (h.total == 0) throw InputError("sensor estimate: no points farther than the minimum range");
-  SensorEstimate est;
-  est.lowest_deg = h.quantile(0.0005);
-  est.highest_deg = h.quantile(0.9995);
-  est.resolved_beams = count_peaks(h.counts);
-  double best = -1.0;
-  for (const auto& name : sensor_preset_names()) {
-    const SensorConfig s = sensor_preset(name);
-    const double lo = s.beam_elevation_deg(0), hi = s.beam_elevation_deg(s.N_scan - 1);
-    const double inter = std::max(0.0, std::min(hi, est.highest_deg) - std::max(lo, est.lowest_deg));
-    const double uni = std::max(hi, est.highest_deg) - std::min(lo, est.lowest_deg);
-    const double overlap = uni > 0.0 ? inter / uni : 0.0;
-    // Field of view decides; the beam count only separates presets with similar fields of view.
-    const double beams = std::min(est.resolved_beams, s.N_scan) / static_cast<double>(s.N_scan);
-    const double score = overlap + 0.1 * beams;
-    if (score > best) {
-      best = score;
-      est.preset = s.preset;
-      est.fov_overlap = overlap;
-    }
+std::vector<std::size_t> spread_scan_indices(std::size_t first, std::size_t last, std::size_t count) {
+  std::vector<std::size_t> out;
+  if (last <= first || count == 0) return out;
+  const std::size_t n = last - first;
+  const std::size_t k = std::min(n, count);
+  for (std::size_t j = 0; j < k; ++j) out.push_back(first + j * n / k);
+  return out;
+}
+
+InputError estimate_error(const std::string& source, const InputError& error) {
+  return InputError(source + ": " + error.what());
+}
+
+SensorModelEstimate estimate_sequence_sensor(const Sequence& seq, const std::vector<std::size_t>& indices,
+                                             const SensorEstimationConfig& config) {
+  std::vector<std::vector<Vec3>> scans;
+  for (const std::size_t i : indices) scans.push_back(seq.read_scan(i).xyz);
+  try {
+    return estimate_sensor_model(scans, seq.times, config);
+  } catch (const InputError& e) {
+    throw estimate_error(seq.dir, e);
   }
-  return est;
+}
+
+std::vector<std::string> describe_estimate(const SensorModelEstimate& est) {
+  const SensorConfig& s = est.sensor;
+  std::vector<std::string> lines;
+  double min_gap = INFINITY, max_gap = 0.0;
+  for (int k = 1; k < s.N_scan; ++k) {
+    const double g = s.beam_elevation_deg(k) - s.beam_elevation_deg(k - 1);
+    min_gap = std::min(min_gap, g);
+    max_gap = std::max(max_gap, g);
+  }
+  lines.push_back(std::to_string(s.N_scan) + " beams, elevation " +
+                  format("%.2f .. %.2f deg, spacing %.2f .. %.2f deg", s.beam_elevation_deg(0),
+                         s.beam_elevation_deg(s.N_scan - 1), min_gap, max_gap) +
+                  format(" (%.1f %% of the points on them)", 100.0 * est.on_beam_fraction));
+  double lo = INFINITY, hi = -INFINITY;
+  for (int k = 0; k < s.N_scan; ++k) {
+    lo = std::min(lo, s.beam_vertical_offset_m(k));
+    hi = std::max(hi, s.beam_vertical_offset_m(k));
+  }
+  lines.push_back(format("beam origin heights %.3f .. %.3f m", lo, hi));
+  lines.push_back(std::to_string(s.Horizon_SCAN) + " columns" +
+                  (est.azimuth_step_deg > 0.0 ? format(" (azimuth step %.4f deg = %.0f firings per turn)",
+                                                       est.azimuth_step_deg, 360.0 / est.azimuth_step_deg)
+                                              : std::string()) +
+                  format(", range %.1f .. %.0f m, %.2f Hz", s.min_range, s.max_range, s.scan_rate_hz) +
+                  (est.scan_rate_measured ? "" : " (assumed)"));
+  if (s.vertical_angle_correction_deg != 0.0)
+    lines.push_back(format("vertical_angle_correction_deg %.3f applied before estimating",
+                           s.vertical_angle_correction_deg));
+  const PresetMatch m = nearest_preset(s);
+  lines.push_back((m.resembles ? "resembles preset " : "nearest preset ") + m.preset +
+                  format(" (%.0f beams; mean elevation distance %.3f deg)", m.preset_beams, m.distance_deg) +
+                  (m.resembles ? "" : ": no preset resembles it closely"));
+  lines.push_back("from " + std::to_string(est.scans) + (est.scans == 1 ? " scan (" : " scans (") +
+                  std::to_string(est.points_used) + " of " + std::to_string(est.points) + " points used)");
+  for (const auto& note : est.notes) lines.push_back("note: " + note);
+  return lines;
+}
+
+std::string estimated_sensor_yaml(const SensorModelEstimate& est, const std::string& source) {
+  std::string head = "# Sensor model estimated by `dloam check --write-sensor` from " + source + ":\n";
+  for (const auto& line : describe_estimate(est)) head += "#   " + line + "\n";
+  head +=
+      "# Use: dloam run SEQUENCE --config THIS_FILE. Sections for the rest of the pipeline (deskew:,\n"
+      "# mapping:, ...) can be appended below.\n";
+  PipelineConfig cfg;
+  cfg.sensor = est.sensor;
+  return head + dump_config(cfg, "sensor");
 }
 
 SensorFit sensor_fit(const PointCloud& cloud, const SensorConfig& sensor) {

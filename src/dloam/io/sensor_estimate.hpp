@@ -1,7 +1,6 @@
-// Guessing which LiDAR recorded a sequence, for `dloam check`: an elevation histogram of the
-// points gives the vertical field of view (robust percentiles) and the number of resolved beams
-// (histogram peaks); the closest built-in sensor preset is the one whose field of view and beam
-// count fit best.
+// The sensor model of a sequence estimated from its own scans (core/sensor_estimation.hpp), for
+// `dloam check` and for `dloam run` with the preset auto: which scans are read, errors naming the
+// sequence, the estimate as a YAML `sensor:` section and as lines for the terminal.
 #pragma once
 
 #include <cstddef>
@@ -9,30 +8,30 @@
 #include <vector>
 
 #include "dloam/core/sensor.hpp"
+#include "dloam/core/sensor_estimation.hpp"
 #include "dloam/core/types.hpp"
+#include "dloam/io/kitti.hpp"
 
 namespace dloam::io {
 
-/// Histogram of point elevations atan2(z, hypot(x, y)) in degrees, -90..90.
-struct ElevationHistogram {
-  double bin_deg = 0.05;
-  std::vector<std::size_t> counts = std::vector<std::size_t>(3600, 0);
-  std::size_t total = 0;
-  /// Adds the points farther than `min_range` (m) horizontally.
-  void add(const PointCloud& cloud, double min_range = 1.0);
-  /// Elevation (deg) below which a fraction `q` of the points lies.
-  [[nodiscard]] double quantile(double q) const;
-};
+/// Up to `count` scan indices spread evenly over [first, last), first included.
+std::vector<std::size_t> spread_scan_indices(std::size_t first, std::size_t last, std::size_t count);
 
-struct SensorEstimate {
-  double lowest_deg = 0.0, highest_deg = 0.0;  ///< 0.05 % and 99.95 % elevation quantiles
-  int resolved_beams = 0;    ///< histogram peaks: exact for sharp beams; blurred beams (KITTI) merge or split
-  std::string preset;        ///< closest built-in preset
-  double fov_overlap = 0.0;  ///< intersection / union of observed and preset fields of view
-};
+/// Reads the scans `indices` of `seq` and estimates its sensor model (scan rate from seq.times).
+/// Throws InputError naming the sequence when the scans do not determine a model.
+SensorModelEstimate estimate_sequence_sensor(const Sequence& seq, const std::vector<std::size_t>& indices,
+                                             const SensorEstimationConfig& config = {});
 
-/// Throws InputError when the histogram is empty.
-SensorEstimate estimate_sensor(const ElevationHistogram& histogram);
+/// `InputError` of a failed estimate with the sequence named in front.
+InputError estimate_error(const std::string& source, const InputError& error);
+
+/// The estimate as the YAML `sensor:` section that --config reads: a comment header (where it
+/// comes from, the nearest preset) and every key of the section.
+std::string estimated_sensor_yaml(const SensorModelEstimate& estimate, const std::string& source);
+
+/// The estimate for the terminal, one line each: beams and elevations, origin heights, columns,
+/// range limits, scan rate, the nearest preset, and what had to be assumed.
+std::vector<std::string> describe_estimate(const SensorModelEstimate& estimate);
 
 /// How one scan fits a sensor model, the test `dloam run` and `dloam check` share: the points
 /// within [min_range, max_range] (vertical-angle correction applied) and how many of them fall on

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/pcd.hpp"
+#include "dloam/io/recording_sequence.hpp"
 #include "dloam/io/text_util.hpp"
 
 namespace dloam::io {
@@ -72,15 +74,57 @@ std::map<std::string, FileSequenceOpener>& file_formats() {
   return formats;
 }
 
-Sequence open_sequence_file(const std::string& path, const std::string& topic) {
-  const std::string ext = fs::path(path).extension().string();
+/// What a file holds, from its first bytes.
+enum class Magic { kPcap, kSqlite, kMcap, kOther };
+Magic sniff(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char h[16] = {0};
+  in.read(reinterpret_cast<char*>(h), sizeof(h));
+  const auto got = static_cast<std::size_t>(in.gcount());
+  auto is = [&](std::initializer_list<unsigned char> m) {
+    return got >= m.size() && std::equal(m.begin(), m.end(), h);
+  };
+  if (is({0xD4, 0xC3, 0xB2, 0xA1}) || is({0xA1, 0xB2, 0xC3, 0xD4}) || is({0x4D, 0x3C, 0xB2, 0xA1}) ||
+      is({0xA1, 0xB2, 0x3C, 0x4D}) || is({0x0A, 0x0D, 0x0D, 0x0A}))
+    return Magic::kPcap;
+  if (got >= 16 && std::string(reinterpret_cast<char*>(h), 16) == std::string("SQLite format 3\0", 16))
+    return Magic::kSqlite;
+  if (is({0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'})) return Magic::kMcap;
+  return Magic::kOther;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+Sequence open_sequence_file(const std::string& path, const InputOptions& input) {
+  const std::string ext = lower(fs::path(path).extension().string());
+  if (ext == ".pcap" || ext == ".pcapng" || ext == ".cap") return open_pcap_sequence(path, input);
+  if (ext == ".db3" || ext == ".mcap") return open_bag2_sequence(path, input);
   const auto it = file_formats().find(ext);
-  if (it != file_formats().end()) return it->second(path, topic);
+  if (it != file_formats().end()) return it->second(path, input.topic);
   if (ext == ".bag")
     fail(path,
          "rosbag input needs dloam built with ROS (cmake -DDLOAM_WITH_ROS=ON and the Debian packages "
          "librosbag-storage-dev libsensor-msgs-dev)");
-  fail(path, "is a file; expected a sequence folder or a rosbag (.bag)");
+  switch (sniff(path)) {
+    case Magic::kPcap:
+      return open_pcap_sequence(path, input);
+    case Magic::kSqlite:
+    case Magic::kMcap:
+      return open_bag2_sequence(path, input);
+    case Magic::kOther:
+      break;
+  }
+  fail(path,
+       "is a file; expected a sequence folder, a capture (.pcap, .pcapng), a ROS 2 bag (.db3, .mcap, or a "
+       "folder with metadata.yaml) or a ROS 1 bag (.bag)");
+}
+
+bool is_rosbag2_folder(const std::string& path) {
+  std::error_code ec;
+  return fs::is_directory(path, ec) && fs::is_regular_file(fs::path(path) / "metadata.yaml", ec);
 }
 
 /// Throws naming the first scan that is not a regular file (read_file's message).
@@ -152,10 +196,22 @@ PointCloud read_scan_file(const std::string& path, ScanInfo* info) {
   return cloud;
 }
 
-Sequence open_sequence(const std::string& dir, const std::string& topic) {
+bool is_recording(const std::string& path) {
   std::error_code ec;
-  if (fs::is_regular_file(dir, ec)) return open_sequence_file(dir, topic);
-  if (!topic.empty()) fail(dir, "a topic applies to rosbag files only");
+  return fs::is_regular_file(path, ec) || is_rosbag2_folder(path);
+}
+
+Sequence open_sequence(const std::string& dir, const std::string& topic) {
+  InputOptions input;
+  input.topic = topic;
+  return open_sequence(dir, input);
+}
+
+Sequence open_sequence(const std::string& dir, const InputOptions& input) {
+  std::error_code ec;
+  if (fs::is_regular_file(dir, ec)) return open_sequence_file(dir, input);
+  if (is_rosbag2_folder(dir)) return open_bag2_sequence(dir, input);
+  if (!input.topic.empty()) fail(dir, "a topic applies to bags only");
   const SequenceFiles files = list_sequence_files(dir);
   check_regular_files(files.scan_files);
   Sequence seq;
@@ -210,12 +266,15 @@ std::vector<Pose> Sequence::lidar_poses() const {
 PointCloud Sequence::read_scan(std::size_t i, ScanInfo* info) const {
   if (i >= scan_files.size())
     fail(dir, "scan index " + std::to_string(i) + " out of range (" + std::to_string(size()) + " scans)");
+  PointCloud cloud;
   if (source) {
-    PointCloud cloud = source->read(i);
+    cloud = source->read(i);
     if (info) *info = ScanInfo{cloud.size(), {}};
-    return cloud;
+  } else {
+    cloud = read_scan_file(scan_files[i], info);
   }
-  return read_scan_file(scan_files[i], info);
+  if (i < times.size()) cloud.stamp = times[i];
+  return cloud;
 }
 
 std::vector<Label> Sequence::read_scan_labels(std::size_t i, std::size_t n_points,

@@ -44,14 +44,21 @@ struct Checker {
   }
 };
 
-/// Point counts, time channels, degenerate scans and the sensor estimate over the readable scans.
+constexpr std::size_t kEstimateScans = 12;
+
+/// Point counts, time channels, degenerate scans, and the scans kept for the sensor estimate
+/// (spread evenly).
 struct ScanStats {
-  ElevationHistogram histogram;
+  std::vector<std::size_t> keep;  ///< scan indices kept for the estimate
+  std::vector<std::vector<Vec3>> kept;
   std::size_t total = 0;
   PointCloud fit_scan;  ///< the first scan with enough points to judge the sensor model by
   std::string fit_name;
 
-  void add(const PointCloud& cloud, const ScanInfo& info, const std::string& name, Checker& c) {
+  explicit ScanStats(std::size_t scans) : keep(spread_scan_indices(0, scans, kEstimateScans)) {}
+
+  void add(std::size_t index, const PointCloud& cloud, const ScanInfo& info, const std::string& name,
+           Checker& c) {
     SequenceReport& r = c.report;
     r.min_points = r.scans_ok == 0 ? cloud.size() : std::min(r.min_points, cloud.size());
     r.max_points = std::max(r.max_points, cloud.size());
@@ -59,7 +66,7 @@ struct ScanStats {
     ++r.scans_ok;
     r.dropped_points += info.dropped();
     if (cloud.has_time()) ++r.points_with_time;
-    histogram.add(cloud);
+    if (std::binary_search(keep.begin(), keep.end(), index)) kept.push_back(cloud.xyz);
     if (fit_name.empty() && cloud.size() >= kMinFitPoints) {
       fit_scan = cloud;
       fit_name = name;
@@ -94,16 +101,27 @@ struct ScanStats {
     return {};
   }
 
-  void finish(Checker& c) {
+  /// After the times are known: the sensor estimate, then the fit of the first full scan.
+  void finish(Checker& c, const std::vector<double>& times) {
     SequenceReport& r = c.report;
     if (r.scans_ok > 0) r.mean_points = static_cast<double>(total) / static_cast<double>(r.scans_ok);
-    if (histogram.total > 0) c.attempt(r.dir, [&] { r.sensor = estimate_sensor(histogram); });
+    if (kept.empty()) {
+      r.sensor_error = "no readable scan";
+    } else {
+      try {
+        r.sensor = estimate_sensor_model(kept, times, c.options.estimation);
+      } catch (const InputError& e) {
+        r.sensor_error = e.what();
+      }
+    }
     if (fit_name.empty()) return;
     SensorConfig sensor;
     if (c.options.sensor) {
       sensor = *c.options.sensor;
+    } else if (r.recording_sensor) {
+      sensor = *r.recording_sensor;
     } else if (r.sensor) {
-      sensor = sensor_preset(r.sensor->preset);
+      sensor = sensor_preset(nearest_preset(r.sensor->sensor).preset);
     } else {
       return;
     }
@@ -118,20 +136,21 @@ struct ScanStats {
   }
 };
 
-/// A sequence stored in one file (rosbag): every scan read through its source, stamps as times.
+/// A recording (bag, capture): every scan read through its source, stamps as times.
 void check_file_sequence(const std::string& path, SequenceReport& r, Checker& c) {
   Sequence seq;
-  if (!c.attempt(path, [&] { seq = open_sequence(path, c.options.topic); })) return;
+  if (!c.attempt(path, [&] { seq = open_sequence(path, c.options.input); })) return;
   r.scans = seq.size();
-  r.scan_format = "PointCloud2";
-  ScanStats stats;
+  r.scan_format = seq.sensor ? "decoded" : "PointCloud2";
+  r.recording_sensor = seq.sensor;
+  ScanStats stats(seq.size());
   for (std::size_t i = 0; i < seq.size(); ++i)
     c.attempt(seq.scan_files[i], [&] {
       ScanInfo info;
       const PointCloud cloud = seq.read_scan(i, &info);
-      stats.add(cloud, info, seq.scan_files[i], c);
+      stats.add(i, cloud, info, seq.scan_files[i], c);
     });
-  stats.finish(c);
+  stats.finish(c, seq.times);
   if (seq.source) r.source = seq.source->describe();
   r.has_times = !seq.times.empty();
   r.time_count = seq.times.size();
@@ -141,22 +160,21 @@ void check_file_sequence(const std::string& path, SequenceReport& r, Checker& c)
   }
 }
 
-void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Checker& c) {
+void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Checker& c, ScanStats& stats) {
   struct Read {
     std::size_t points = 0;
     ScanInfo info;
   };
   std::map<std::string, Read> read_of;  // scan stem -> what was read, readable scans only
-  ScanStats stats;
-  for (const auto& path : files.scan_files) {
+  for (std::size_t i = 0; i < files.scan_files.size(); ++i) {
+    const std::string& path = files.scan_files[i];
     c.attempt(path, [&] {
       ScanInfo info;
       const PointCloud cloud = read_scan_file(path, &info);
-      stats.add(cloud, info, path, c);
+      stats.add(i, cloud, info, path, c);
       read_of[stem(path)] = Read{cloud.size(), std::move(info)};
     });
   }
-  stats.finish(c);
 
   r.has_labels = files.has_label_dir;
   if (!files.has_label_dir) return;
@@ -190,7 +208,8 @@ void check_scans_and_labels(const SequenceFiles& files, SequenceReport& r, Check
     if (!labelled.count(stem(path))) c.problem(path + ": has no label file in labels/");
 }
 
-void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c) {
+void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c,
+                      std::vector<double>& times_out) {
   const std::size_t n = files.scan_files.size();
   std::optional<Calib> calib;
   r.has_calib = !files.calib_file.empty();
@@ -223,6 +242,7 @@ void check_text_files(const SequenceFiles& files, SequenceReport& r, Checker& c)
   if (r.has_times) {
     c.attempt(files.times_file, [&] {
       const auto times = read_times(files.times_file);
+      times_out = times;
       r.time_count = times.size();
       if (!times.empty()) {
         r.first_time = times.front();
@@ -248,8 +268,7 @@ SequenceReport check_sequence(const std::string& dir, const CheckOptions& option
   SequenceReport report;
   report.dir = dir;
   Checker checker{report, options};
-  std::error_code ec;
-  if (fs::is_regular_file(dir, ec) || !options.topic.empty()) {
+  if (is_recording(dir) || !options.input.topic.empty()) {
     check_file_sequence(dir, report, checker);
     return report;
   }
@@ -257,16 +276,28 @@ SequenceReport check_sequence(const std::string& dir, const CheckOptions& option
   if (!checker.attempt(dir, [&] { files = list_sequence_files(dir); })) return report;
   report.scans = files.scan_files.size();
   report.scan_format = fs::path(files.scan_files.front()).extension() == ".pcd" ? "PCD" : "KITTI .bin";
-  check_scans_and_labels(files, report, checker);
-  check_text_files(files, report, checker);
+  ScanStats stats(files.scan_files.size());
+  check_scans_and_labels(files, report, checker, stats);
+  std::vector<double> times;
+  check_text_files(files, report, checker, times);
+  stats.finish(checker, times);
   return report;
 }
 
 SequenceReport check_sequence(const std::string& dir,
                               const std::function<void(const std::string&)>& on_problem,
-                              const std::string& topic) {
+                              const std::string& topic, const SensorEstimationConfig& estimation) {
+  InputOptions input;
+  input.topic = topic;
+  return check_sequence(dir, on_problem, input, estimation);
+}
+
+SequenceReport check_sequence(const std::string& dir,
+                              const std::function<void(const std::string&)>& on_problem,
+                              const InputOptions& input, const SensorEstimationConfig& estimation) {
   CheckOptions options;
-  options.topic = topic;
+  options.input = input;
+  options.estimation = estimation;
   options.on_problem = on_problem;
   return check_sequence(dir, options);
 }

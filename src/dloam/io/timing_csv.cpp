@@ -11,7 +11,8 @@ void write_timing_csv(const std::string& path, const std::vector<ScanResult>& re
   write_atomic(path, [&](std::ostream& out) {
     out << "scan";
     for (auto name : kModuleNames) out << ',' << name << "_ms";
-    out << ",edges,planes,mapped,keyframe,loop_closed,degenerate\n";
+    out << ",edges,planes,mapped,keyframe,loop_closed,degenerate,dt_s,missed_scans,prior_fitness,fitness,"
+           "searched,reinitialized,lost\n";
     char buf[32];
     for (const auto& r : results) {
       out << r.index;
@@ -20,7 +21,12 @@ void write_timing_csv(const std::string& path, const std::vector<ScanResult>& re
         out << ',' << buf;
       }
       out << ',' << r.n_edges << ',' << r.n_planes << ',' << r.mapped << ',' << r.keyframe << ','
-          << r.loop_closed << ',' << r.degenerate << '\n';
+          << r.loop_closed << ',' << r.degenerate;
+      std::snprintf(buf, sizeof(buf), "%.6f", r.dt);
+      out << ',' << buf << ',' << r.missed_scans;
+      std::snprintf(buf, sizeof(buf), "%.3f,%.3f", r.prior_fitness, r.fitness);
+      out << ',' << buf << ',' << (r.search_candidates > 0) << ',' << r.reinitialized << ',' << r.lost
+          << '\n';
     }
   });
 }

@@ -10,6 +10,10 @@
 
 namespace dloam {
 
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}  // namespace
+
 void DynamicStage::remember_range(const RangeImage& image, const std::vector<Vec3>& points) {
   // Columns from the final de-skew: the segmentation assigned the pixels before it, and at speed
   // the de-skew moves points by more than a column (2.5 m per sweep at 90 km/h). The rows stay
@@ -30,7 +34,7 @@ void DynamicStage::remember_range(const RangeImage& image, const std::vector<Vec
 
 CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::vector<double>& times,
                                       const std::vector<Vec3>& deskewed, const SegmentationResult& seg,
-                                      const Pose& predicted, ObjectSet& objects) {
+                                      const StepPrior& prior, ObjectSet& objects) {
   const PreRegistrationConfig& pre = config_.preregistration;
   // Score of a forward translation: cluster pixels that look static with it (subsampled), with a
   // static threshold matching the step. A coarse search, then a fine one around its best: an
@@ -41,23 +45,35 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
       return static_area(seg.image, deskewed, scored, T, previous_vertices_.range, config_.sensor, v);
     };
   };
-  constexpr double kStep = 0.2;       // m
-  constexpr double kFineStep = 0.04;  // m
-  Pose start = search_forward_translation(predicted, pre.search_range, kStep, score_with(kStep));
+  // Turns too, within what the platform can turn over the interval: coarse (the static threshold
+  // of the coarse steps), then around the best.
+  constexpr double kCoarseStep = 0.4;         // m
+  constexpr double kCoarseTurn = 2.0 * kDeg;  // rad: 0.35 m at 10 m
+  constexpr double kStep = 0.2;               // m
+  constexpr double kTurn = 0.5 * kDeg;        // rad
+  constexpr double kFineStep = 0.04;          // m
+  Pose start = prior.predicted;
+  if (prior.yaw_range > 0.0) {
+    start = search_planar_motion(start, prior.search_range, kCoarseStep, prior.yaw_range, kCoarseTurn,
+                                 score_with(kCoarseStep));
+    start = search_planar_motion(start, kCoarseStep, kStep, kCoarseTurn, kTurn, score_with(kStep));
+  } else {
+    start = search_forward_translation(start, prior.search_range, kStep, score_with(kStep));
+  }
   start = search_forward_translation(start, kStep, kFineStep, score_with(kFineStep));
   // The search result is no motion prior: the object ICP may move far from it (no motion gate).
-  CoarseResult c = coarse_motion(objects, *previous_objects_, start, pre, false);
+  CoarseResult c = coarse_motion(objects, *previous_objects_, start, pre, nullptr);
   c.valid = true;  // the search result when the objects do not constrain the motion
   if (!times.empty() && !first_times_.empty()) {
     // Both scans de-skewed with the found motion, then the objects registered again.
-    const std::vector<Vec3> first = deskew(first_raw_, first_times_, c.T);
+    const std::vector<Vec3> first = deskew(first_raw_, first_times_, prior.interval.sweep_motion(c.T));
     remember_range(first_seg_->image, first);
     ObjectSet prev = extract_objects(first, *first_seg_, pre);
     previous_objects_ = std::make_unique<FeatureMap>();
     previous_objects_->edges.build(std::move(prev.poles));
     previous_objects_->planes.build(std::move(prev.planes));
-    objects = extract_objects(deskew(raw, times, c.T), seg, pre);
-    const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, pre, false);
+    objects = extract_objects(deskew(raw, times, prior.interval.sweep_motion(c.T)), seg, pre);
+    const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, pre, nullptr);
     if (refined.valid) c = refined;
   }
   first_raw_ = {};
@@ -68,8 +84,9 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
 
 DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vector<double>& times,
                                     std::vector<Vec3> deskewed, const SegmentationResult& seg,
-                                    const Pose& predicted, const std::vector<float>& intensity) {
+                                    const StepPrior& prior, const std::vector<float>& intensity) {
   DynamicOutput out;
+  const Pose& predicted = prior.predicted;
   out.T_coarse = predicted;
   const bool deskew_on = !times.empty();
   const PreRegistrationConfig& pre = config_.preregistration;
@@ -79,8 +96,9 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   // Pre-registration -> T_coarse, then the current scan de-skewed with it.
   const bool first_pair_now = have_previous_ && !first_pair_done_;
   if (have_previous_ && pre.enabled && previous_objects_) {
-    const CoarseResult c = first_pair_now ? first_pair(raw, times, deskewed, seg, predicted, objects)
-                                          : coarse_motion(objects, *previous_objects_, predicted, pre);
+    const CoarseResult c = first_pair_now
+                               ? first_pair(raw, times, deskewed, seg, prior, objects)
+                               : coarse_motion(objects, *previous_objects_, predicted, pre, &prior.gate);
     out.coarse_valid = c.valid;
     out.T_coarse = c.T;
   }
@@ -89,13 +107,16 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
     // first pair, which has no prediction): beyond it, it found another surface, not a better motion.
     const AlignmentResult a = align_range_images(deskewed, seg.image.point_of_pixel, previous_vertices_,
                                                  config_.sensor, out.T_coarse);
-    if (a.valid && within_motion_gate((first_pair_now ? out.T_coarse : predicted).inverse() * a.T, pre)) {
+    if (a.valid && prior.gate.admits((first_pair_now ? out.T_coarse : predicted).inverse() * a.T)) {
       out.T_coarse = a.T;
       out.coarse_valid = true;
     }
   }
   if (have_previous_) first_pair_done_ = true;
-  out.points = (out.coarse_valid && deskew_on) ? deskew(raw, times, out.T_coarse) : std::move(deskewed);
+  out.points = (out.coarse_valid && deskew_on) ? deskew(raw, times, prior.interval.sweep_motion(out.T_coarse))
+                                               : std::move(deskewed);
+  // The speeds are range changes over dt: the thresholds (m/s) become metres over this interval.
+  const DetectionConfig detection = thresholds_over(config_.detection, prior.interval.dt);
 
   SpeedMatrix S;
   out.checked = have_previous_;
@@ -108,12 +129,12 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   remember_range(seg.image, out.points);
   DetectionResult det;
   if (cnn_ && cnn_->ready()) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
-    det = cnn_->process(seg, out.points, intensity, previous_vertices_.range, out.T_coarse, config_.detection,
+    det = cnn_->process(seg, out.points, intensity, previous_vertices_.range, out.T_coarse, detection,
                         have_previous_ ? &S.speed : nullptr);
   } else if (have_previous_) {
     // The geometric detector, also for the CNN's first m scans: their bags lack speed images, and
     // a drive's first motion must not lock onto co-moving traffic.
-    det = detect_dynamic(seg, S, config_.detection);
+    det = detect_dynamic(seg, S, detection);
   } else {
     det.cluster_dynamic.assign(static_cast<std::size_t>(seg.num_clusters) + 1, 0);
     det.ground_rejected.assign(seg.pixel_label.size(), 0);

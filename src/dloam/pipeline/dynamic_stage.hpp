@@ -12,8 +12,10 @@
 #include <memory>
 #include <vector>
 
+#include "dloam/core/deskew.hpp"
 #include "dloam/core/dynamic_detector.hpp"
 #include "dloam/core/features.hpp"
+#include "dloam/core/motion_model.hpp"
 #include "dloam/core/object_tracker.hpp"
 #include "dloam/core/preregistration.hpp"
 #include "dloam/core/range_alignment.hpp"
@@ -21,6 +23,15 @@
 #include "dloam/pipeline/config.hpp"
 
 namespace dloam {
+
+/// The motion model's view of the step to the current scan.
+struct StepPrior {
+  Pose predicted = Pose::Identity();  ///< the constant-velocity prediction of the step
+  ScanInterval interval;              ///< time since the previous scan, sweep duration
+  MotionGate gate;                    ///< how far T_coarse may depart from the prediction
+  double search_range = 4.0;          ///< m: forward translation searched when there is no prior
+  double yaw_range = 0.0;             ///< rad: turns searched when there is no prior
+};
 
 struct DynamicOutput {
   std::vector<Vec3> points;          ///< current scan de-skewed with T_coarse (same order as input)
@@ -42,10 +53,10 @@ class DynamicStage {
   }
 
   /// `raw`: the scan (vertical-angle corrected, not de-skewed) and its point times; `deskewed`:
-  /// the scan de-skewed with `predicted` (the constant-velocity motion, also the refined motion of
-  /// the previous sweep), segmented into `seg`.
+  /// the scan de-skewed with the prediction of `prior` (the constant-velocity motion), segmented
+  /// into `seg`.
   DynamicOutput process(const std::vector<Vec3>& raw, const std::vector<double>& times,
-                        std::vector<Vec3> deskewed, const SegmentationResult& seg, const Pose& predicted,
+                        std::vector<Vec3> deskewed, const SegmentationResult& seg, const StepPrior& prior,
                         const std::vector<float>& intensity = {});
   /// The odometry's pose of the scan just processed (the CNN's bags use the pipeline's own poses).
   void refine_pose(const Pose& pose) {
@@ -58,7 +69,7 @@ class DynamicStage {
   /// and the current objects with it. Returns the coarse result.
   CoarseResult first_pair(const std::vector<Vec3>& raw, const std::vector<double>& times,
                           const std::vector<Vec3>& deskewed, const SegmentationResult& seg,
-                          const Pose& predicted, ObjectSet& objects);
+                          const StepPrior& prior, ObjectSet& objects);
   void remember_range(const RangeImage& image, const std::vector<Vec3>& points);
 
   PipelineConfig config_;

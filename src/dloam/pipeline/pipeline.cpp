@@ -10,11 +10,28 @@
 #include "dloam/core/preregistration.hpp"
 #include "dloam/core/se3.hpp"
 #include "dloam/core/segmentation.hpp"
+#include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
 
 namespace dloam {
 
 namespace {
+/// Relative difference between a scan interval and the sweep duration below which they are equal.
+constexpr double kStampJitter = 1e-4;
+/// A probe pixel fits the previous scan when its range lies this close to the previous ranges (m).
+constexpr double kProbeInlier = 0.2;
+/// Pixels of the range image per probe pixel sampled (before keeping cluster pixels only).
+constexpr std::size_t kProbePixels = 12000;
+/// A search result replaces the prediction only when it fits this much more of the surface.
+constexpr double kSearchMargin = 0.05;
+/// Probe points registered per candidate of a step search.
+constexpr std::size_t kSearchPoints = 500;
+/// The prediction is searched around when it fits less than this fraction of what the recent
+/// estimates fit, and a search result is taken only when it fits at least kPriorFitRatio of it.
+constexpr double kSearchFitRatio = 0.7;
+constexpr double kPriorFitRatio = 0.8;
+/// A step whose estimate fits less than this fraction of that is reported as not estimated.
+constexpr double kLostFitRatio = 0.5;
 constexpr double kRedeskewRotation = 0.5 * M_PI / 180.0;  // rad
 constexpr double kRedeskewTranslation = 0.1;              // m
 
@@ -40,7 +57,10 @@ std::vector<std::size_t> static_points(const std::vector<Label>& labels, const S
 }  // namespace
 
 Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn)
-    : config_(config), odometry_(config.odometry), mapper_(config.mapping, config.sensor.scan_rate_hz) {
+    : config_(config),
+      odometry_(config.odometry),
+      mapper_(config.mapping, config.sensor.scan_rate_hz),
+      motion_(config.motion) {
   config_.sensor.validate();
   if (config_.detection.detector == "auto") config_.detection.detector = cnn ? "cnn" : "geometric";
   if (config_.detection.detector == "cnn") {
@@ -58,25 +78,103 @@ Pipeline::~Pipeline() {
   if (job_ && job_->output.valid()) job_->output.wait();
 }
 
+ScanInterval Pipeline::interval_of(const PointCloud& cloud, ScanResult& out) {
+  ScanInterval interval;
+  interval.sweep = 1.0 / config_.sensor.scan_rate_hz;
+  interval.dt = interval.sweep;
+  out.stamp = cloud.stamp.value_or(static_cast<double>(count_) * interval.sweep);
+  if (cloud.stamp && last_stamp_) {
+    interval.dt = *cloud.stamp - *last_stamp_;
+    if (!(interval.dt > 0.0))
+      throw InputError("scan " + std::to_string(count_) + ": its time (" + std::to_string(*cloud.stamp) +
+                       " s) is not after the previous scan's (" + std::to_string(*last_stamp_) + " s)");
+    // Recorders stamp with jitter (and a stamp stored as seconds since the epoch keeps only a
+    // fraction of a microsecond): an interval within kStampJitter of one sweep is one sweep, so a
+    // drive gives the same poses from a folder with times.txt and from a bag of the same scans.
+    if (std::abs(interval.dt - interval.sweep) < kStampJitter * interval.sweep) interval.dt = interval.sweep;
+  }
+  if (cloud.stamp) last_stamp_ = cloud.stamp;
+  if (count_ > 0) {
+    out.dt = interval.dt;
+    out.missed_scans = interval.missed_scans();
+  }
+  return interval;
+}
+
+double Pipeline::consistency(const SegmentationResult& seg, const std::vector<Vec3>& points,
+                             const std::vector<int>& probe, const Pose& T, double tolerance) const {
+  return static_fit(seg.image, points, probe, T, previous_range_, config_.sensor, tolerance).fraction();
+}
+
+bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, const std::vector<Vec3>& points,
+                           const std::vector<int>& probe, ScanResult& out) {
+  out.prior_fitness = consistency(seg, points, probe, prior.predicted, kProbeInlier);
+  // The first pair with a detector: its own search (DynamicStage) scores the static-looking
+  // clusters without registering anything, which traffic moving with the sensor cannot win.
+  if (!motion_.known() && dynamic_) return false;
+  const bool trusted = motion_.known() && out.prior_fitness >= kSearchFitRatio * fit_reference_;
+  if (trusted || !config_.motion.step_search) return false;
+  // The search source: the probe points, thinned.
+  FeatureSource source;
+  const std::size_t step = std::max<std::size_t>(1, probe.size() / kSearchPoints);
+  for (std::size_t k = 0; k < probe.size(); k += step)
+    source.planes.push_back(
+        points[static_cast<std::size_t>(seg.image.point_of_pixel[static_cast<std::size_t>(probe[k])])]);
+  const FeatureMap* previous = odometry_.previous();
+  if (!previous) return false;
+  // With no velocity the search covers every speed and turn rate of the platform, from standing
+  // still; with one, what the platform's accelerations allow around the prediction (the motion
+  // gate): traffic moving with the sensor can make standing still look right, a car at speed
+  // cannot stop in one scan.
+  StepSearchOptions options;
+  const double dt = prior.interval.dt;
+  const bool known = motion_.known();
+  options.max_rotation = known ? prior.gate.max_rotation
+                               : std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * dt);
+  options.max_translation = known ? prior.gate.max_translation : config_.motion.max_speed * dt;
+  const StepSearchResult found = search_step(
+      source, *previous, {known ? prior.predicted : Pose::Identity()}, options,
+      [&](const Pose& T, double tolerance) { return consistency(seg, points, probe, T, tolerance); });
+  out.search_candidates = found.candidates;
+  // The result must fit clearly better than the prediction, and (with a velocity) about as well as
+  // the recent steps: in scenes where little of the surface is static (a highway full of traffic)
+  // the score cannot tell motions apart, and the prediction is the better guess.
+  if (!(found.fitness > out.prior_fitness + kSearchMargin)) return false;
+  if (known && found.fitness < kPriorFitRatio * fit_reference_) return false;
+  // ... and stay within what the platform can do: the registration of each candidate is free.
+  if (known && !prior.gate.admits(prior.predicted.inverse() * found.T)) return false;
+  prior.predicted = found.T;
+  out.reinitialized = motion_.known();
+  out.prior_fitness = found.fitness;
+  return true;
+}
+
 ScanResult Pipeline::process(const PointCloud& cloud) {
   ScanResult out;
   out.index = count_;
   ScopedTimer total(out.times, Module::kTotal);
+  const ScanInterval interval = interval_of(cloud, out);
+  StepPrior prior;
+  prior.interval = interval;
+  prior.predicted = motion_.predict(interval.dt);
+  prior.gate = motion_.gate(interval.dt);
+  prior.search_range = config_.motion.max_speed * interval.dt;
+  prior.yaw_range = config_.motion.max_angular_speed_deg * M_PI / 180.0 * interval.dt;
+  const Pose& predicted = prior.predicted;
 
   // Motion-distortion removal with the constant-velocity prediction (eq. 12), reference = mid-sweep.
+  // The prediction is checked first: when it does not bring the scan onto the previous one's
+  // surfaces (or there is none yet), the step is searched without it.
   std::vector<Vec3> points, raw;
   std::vector<double> times;
   {
     ScopedTimer t(out.times, Module::kDeskew);
     points = cloud.xyz;
     correct_vertical_angle(points, config_.sensor.vertical_angle_correction_deg);
-    if (config_.deskew.enabled && config_.deskew.time_source != "none") {
+    if (config_.deskew.enabled && config_.deskew.time_source != "none")
       times = point_times(cloud, config_.deskew.time_source == "auto");  // scan 0: de-skewed at scan 1
-      raw = points;
-      if (count_ > 0) points = deskew(points, times, velocity_);
-    } else if (dynamic_) {
-      raw = points;
-    }
+    if (!times.empty() || dynamic_) raw = points;
+    if (count_ > 0 && !times.empty()) points = deskew(points, times, interval.sweep_motion(predicted));
   }
 
   SegmentationResult seg;
@@ -85,11 +183,27 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     seg = segment(points, config_.sensor, config_.segmentation);
   }
 
+  // The step check: the prediction must bring the scan onto the previous range image about as well
+  // as the recent estimates did (the surface of static-looking clusters within kProbeInlier of the
+  // previous ranges); when it does not, or there is no velocity yet, the step is searched without
+  // it and the scan de-skewed and segmented again with the result.
+  std::vector<int> probe;
+  if (count_ > 0 && previous_range_.size() == seg.image.range.size()) {
+    ScopedTimer t(out.times, Module::kStepCheck);
+    const std::size_t stride = std::max<std::size_t>(1, seg.image.range.size() / kProbePixels);
+    probe = static_area_pixels(seg.image, points, seg.pixel_label, static_cast<int>(stride));
+    if (check_prior(prior, seg, points, probe, out) && !times.empty()) {
+      points = deskew(raw, times, interval.sweep_motion(predicted));
+      seg = segment(points, config_.sensor, config_.segmentation);
+      probe = static_area_pixels(seg.image, points, seg.pixel_label, static_cast<int>(stride));
+    }
+  }
+
   // Dynamic-object detection (III.D): T_coarse, re-de-skew, speed matrix, labels, feature mask.
   DynamicOutput dyn;
   if (dynamic_) {
     ScopedTimer t(out.times, Module::kDetection);
-    dyn = dynamic_->process(raw, times, std::move(points), seg, velocity_, cloud.intensity);
+    dyn = dynamic_->process(raw, times, std::move(points), seg, prior, cloud.intensity);
     points = std::move(dyn.points);
     out.labels = std::move(dyn.labels);
     out.num_dynamic = dyn.num_dynamic;
@@ -117,13 +231,12 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     const bool reject = dynamic_ != nullptr;
     // T_coarse (static poles / planes, III.D.1) is the initial guess when valid; the features
     // were de-skewed with it.
-    const Pose initial = dynamic_ && dyn.coarse_valid ? dyn.T_coarse : velocity_;
+    const Pose initial = dynamic_ && dyn.coarse_valid ? dyn.T_coarse : predicted;
     // T_coarse passed the motion gate (and is aligned on the range images when refined): an
     // odometry that moves farther than the gate from it has slid along repeated structure (a
     // highway's guard-rail posts, one spacing along) and is not believed.
     const auto believe = [&](auto odometry) {
-      if (dynamic_ && dyn.coarse_valid &&
-          !within_motion_gate(initial.inverse() * odometry.motion, config_.preregistration))
+      if (dynamic_ && dyn.coarse_valid && !prior.gate.admits(initial.inverse() * odometry.motion))
         odometry.motion = initial;
       return odometry;
     };
@@ -131,12 +244,12 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // Scan 1 was de-skewed with T_coarse: so is its target, the first scan. Registering a
     // de-skewed scan to a skewed one is biased by the sweep's motion (a first step up to 6 cm short
     // at 25 km/h, which the map built on the first scan then keeps).
-    if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(initial);
+    if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(interval.sweep_motion(initial));
     auto odo = believe(odometry_.estimate(sharp, initial, reject));
     if (first_pair) {
       // The first motion is known; de-skew the first scan with it (constant velocity) and
       // estimate again against the corrected target.
-      deskew_first_scan(odo.motion);
+      deskew_first_scan(interval.sweep_motion(odo.motion));
       odo = believe(odometry_.estimate(sharp, odo.motion, reject));
       first_->raw.clear();  // done
     }
@@ -145,14 +258,24 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       // turn): de-skew the features again with the motion just estimated, and estimate once more
       // when that motion differs much from the prediction. The map and the next scan's target get
       // the refined features.
-      const Pose change = initial.inverse() * odo.motion;
+      const Pose change = interval.sweep_motion(initial).inverse() * interval.sweep_motion(odo.motion);
       if (rotation_angle(change) > kRedeskewRotation || translation_norm(change) > kRedeskewTranslation) {
-        sharp.edges = deskew(raw, times, features.f_e_index, odo.motion);
-        sharp.planes = deskew(raw, times, features.f_p_index, odo.motion);
+        const Pose sweep = interval.sweep_motion(odo.motion);
+        sharp.edges = deskew(raw, times, features.f_e_index, sweep);
+        sharp.planes = deskew(raw, times, features.f_p_index, sweep);
         odo = believe(odometry_.estimate(sharp, odo.motion, reject));
       }
-      features.F_e = deskew(raw, times, features.F_e_index, odo.motion);
-      features.F_p = deskew(raw, times, features.F_p_index, odo.motion);
+      const Pose sweep = interval.sweep_motion(odo.motion);
+      features.F_e = deskew(raw, times, features.F_e_index, sweep);
+      features.F_p = deskew(raw, times, features.F_p_index, sweep);
+    }
+    if (!probe.empty()) {
+      // How well the estimate brings the scan onto the previous one: the reference of the next
+      // steps' checks; a step that fits far worse than the recent ones is reported.
+      out.fitness = consistency(seg, points, probe, odo.motion, kProbeInlier);
+      out.lost = fit_reference_ > 0.0 && out.fitness < kLostFitRatio * fit_reference_;
+      if (!out.lost)
+        fit_reference_ = fit_reference_ > 0.0 ? 0.8 * fit_reference_ + 0.2 * out.fitness : out.fitness;
     }
     odometry_.set_previous(features.F_e, features.F_p);
     out.rejected_features = odo.rejected;
@@ -175,10 +298,17 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   }
   map_scan(out, features, points, std::move(map_points), raw, times);
   out.pose = normalized(correction_ * odometry_pose_);
-  // The constant-velocity prediction is the odometry's last motion: mapping corrections (and loop
-  // closures) move the integrated pose in jumps when they arrive, which are not motion.
-  velocity_ = count_ > 0 ? odometry_poses_[count_ - 1].inverse() * odometry_pose_ : Pose::Identity();
+  // The constant-velocity prediction is the odometry's last motion over the time it took: mapping
+  // corrections (and loop closures) move the integrated pose in jumps when they arrive, which are
+  // not motion.
+  if (count_ > 0) motion_.update(odometry_poses_[count_ - 1].inverse() * odometry_pose_, interval.dt);
   last_pose_ = out.pose;
+  // The next step check compares with this scan's static part: moving objects cannot vouch for a
+  // motion (traffic moving with the sensor agrees with standing still).
+  previous_range_ = std::move(seg.image.range);
+  if (dynamic_ && dyn.checked)
+    for (std::size_t px = 0; px < previous_range_.size(); ++px)
+      if (dyn.mask.excluded[px]) previous_range_[px] = 0.0f;
   ++count_;
   return out;
 }
@@ -214,7 +344,7 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
     for (std::size_t i : out.map_points) in.points.push_back(points[i]);
     keyframe_without_points_ = in.keyframe && out.map_points.empty();
   }
-  if (count_ == 0) {  // wait for the first motion (scan 1) to de-skew it
+  if (count_ == 0) {              // wait for the first motion (scan 1) to de-skew it
     first_.emplace(FirstScan{});  // not emplace(): clang rejects it for a nested struct with initialisers
     if (!times.empty()) {
       first_->raw = raw;
@@ -230,11 +360,11 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
   if (config_.mapping.latency_scans == 0) integrate_job(&out);
 }
 
-void Pipeline::deskew_first_scan(const Pose& motion) {
+void Pipeline::deskew_first_scan(const Pose& sweep_motion) {
   FirstScan& f = *first_;
-  f.input.features.edges = deskew(f.raw, f.times, f.F_e_index, motion);
-  f.input.features.planes = deskew(f.raw, f.times, f.F_p_index, motion);
-  const std::vector<Vec3> points = deskew(f.raw, f.times, motion);
+  f.input.features.edges = deskew(f.raw, f.times, f.F_e_index, sweep_motion);
+  f.input.features.planes = deskew(f.raw, f.times, f.F_p_index, sweep_motion);
+  const std::vector<Vec3> points = deskew(f.raw, f.times, sweep_motion);
   for (std::size_t j = 0; j < f.map_points.size(); ++j) f.input.points[j] = points[f.map_points[j]];
   odometry_.set_previous(f.input.features.edges, f.input.features.planes);
 }

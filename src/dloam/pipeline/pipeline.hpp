@@ -16,6 +16,7 @@
 #include "dloam/core/mapping.hpp"
 #include "dloam/core/moving_segmenter.hpp"
 #include "dloam/core/odometry.hpp"
+#include "dloam/core/step_search.hpp"
 #include "dloam/core/types.hpp"
 #include "dloam/pipeline/config.hpp"
 #include "dloam/pipeline/dynamic_stage.hpp"
@@ -25,6 +26,9 @@ namespace dloam {
 
 struct ScanResult {
   std::size_t index = 0;
+  double stamp = 0.0;    ///< s: the scan's stamp, or its index times the sweep duration when it has none
+  double dt = 0.0;       ///< s since the previous scan (0 for the first)
+  int missed_scans = 0;  ///< sweeps between the previous scan and this one that are not in the data
   Pose pose = Pose::Identity();             ///< integrated world pose (sensor frame at mid-sweep)
   Pose odometry_pose = Pose::Identity();    ///< odometry-only pose
   std::vector<Label> labels;                ///< per input point: 9 static / 251 moving (detector on)
@@ -36,6 +40,12 @@ struct ScanResult {
   bool keyframe = false;                    ///< ... and the scan becomes a keyframe
   bool loop_closed = false;  ///< a loop-closure correction was integrated at this scan (pose jump)
   bool degenerate = false;
+  /// The step check (the prediction against the previous scan's surfaces, see Pipeline::process):
+  /// fraction of the probe points that fit with the prediction and with the final estimate.
+  double prior_fitness = 0.0, fitness = 0.0;
+  std::size_t search_candidates = 0;  ///< > 0: the step was searched without the prediction
+  bool reinitialized = false;         ///< the search replaced a prediction the data contradicted
+  bool lost = false;                  ///< the step could not be estimated (fits far worse than recent steps)
   int num_dynamic = 0;                ///< dynamic clusters (detector on)
   int pseudo_static = 0;              ///< type-2 pseudo-static objects (dynamic -> static)
   bool coarse_valid = false;          ///< pre-registration gave T_coarse
@@ -107,10 +117,20 @@ class Pipeline {
   void start_job(MappingInput input);
   /// Joins the job in flight and integrates its correction (transform integration).
   void integrate_job(ScanResult* out);
-  /// Scan 1: de-skews the first scan's features (the odometry target) and map points with a
-  /// motion of scan 1 (constant velocity): T_coarse before the first estimate, then the estimate;
-  /// map_scan() then maps it.
-  void deskew_first_scan(const Pose& motion);
+  /// Scan 1: de-skews the first scan's features (the odometry target) and map points with the
+  /// sweep motion of scan 1 (constant velocity): T_coarse before the first estimate, then the
+  /// estimate; map_scan() then maps it.
+  void deskew_first_scan(const Pose& sweep_motion);
+  /// The time since the previous scan from the stamps (one sweep when a stamp is missing).
+  ScanInterval interval_of(const PointCloud& cloud, ScanResult& out);
+  /// The fraction of the surface of the `probe` pixels whose range agrees with the previous
+  /// range image (its static part) within `tolerance` (m) after the motion T.
+  [[nodiscard]] double consistency(const SegmentationResult& seg, const std::vector<Vec3>& points,
+                                   const std::vector<int>& probe, const Pose& T, double tolerance) const;
+  /// Checks the prediction of `prior` and, when it does not fit (or there is no velocity yet),
+  /// replaces it by the result of a search that does not assume it. True when it was replaced.
+  bool check_prior(StepPrior& prior, const SegmentationResult& seg, const std::vector<Vec3>& points,
+                   const std::vector<int>& probe, ScanResult& out);
 
   PipelineConfig config_;
   ScanToScanOdometry odometry_;
@@ -120,8 +140,11 @@ class Pipeline {
   Pose odometry_pose_ = Pose::Identity();
   Pose correction_ = Pose::Identity();  ///< mapping pose * odometry pose^-1 (transform integration)
   Pose last_pose_ = Pose::Identity();
-  Pose velocity_ = Pose::Identity();  ///< last inter-scan motion, the constant-velocity prediction
-  std::vector<Pose> odometry_poses_;  ///< per scan
+  MotionModel motion_;  ///< the constant-velocity prior, in physical units
+  std::optional<double> last_stamp_;
+  std::vector<float> previous_range_;                 ///< the previous scan's range image
+  double fit_reference_ = 0.0;                        ///< what recent estimates fit (running mean)
+  std::vector<Pose> odometry_poses_;                  ///< per scan
   std::vector<std::pair<std::size_t, Pose>> mapped_;  ///< (scan, refined pose) of integrated jobs
   std::optional<FirstScan> first_;
   bool keyframe_without_points_ = false;  ///< the newest keyframe's scan added no map points

@@ -7,9 +7,19 @@
 
 namespace dloam {
 
-enum class Module { kDeskew, kSegmentation, kDetection, kFeatures, kOdometry, kMapping, kTotal, kCount };
+enum class Module {
+  kDeskew,
+  kSegmentation,
+  kStepCheck,
+  kDetection,
+  kFeatures,
+  kOdometry,
+  kMapping,
+  kTotal,
+  kCount
+};
 inline constexpr std::array<std::string_view, static_cast<std::size_t>(Module::kCount)> kModuleNames = {
-    "deskew", "segmentation", "detection", "features", "odometry", "mapping", "total"};
+    "deskew", "segmentation", "step_check", "detection", "features", "odometry", "mapping", "total"};
 
 struct ModuleTimes {
   std::array<double, static_cast<std::size_t>(Module::kCount)> ms{};

@@ -1,8 +1,8 @@
-// sensor_msgs/PointCloud2 <-> dloam::PointCloud. Reads x y z (float32 or float64), optional
-// intensity (any numeric type) and optional per-point time as the LiDAR drivers write it:
-// `time` float32 seconds (Velodyne), `t` uint32 nanoseconds (Ouster), `timestamp` float64
-// seconds (Hesai); times become sweep fractions in [0, 1) like the PCD reader's. Writes clouds
-// with x y z intensity and an optional uint32 `label` field (for the ROS node).
+// sensor_msgs/PointCloud2 <-> dloam::PointCloud. Reading is io::convert_cloud()'s (shared with
+// the ROS 2 bags, see dloam/io/pointcloud2_fields.hpp): x y z (float32 or float64), optional
+// intensity (any numeric type) and optional per-point time as the LiDAR drivers write it;
+// times become sweep fractions in [0, 1) like the PCD reader's. Writes clouds with x y z
+// intensity and an optional uint32 `label` field (for the ROS node).
 #pragma once
 
 #include <sensor_msgs/PointCloud2.h>
@@ -12,20 +12,14 @@
 #include <vector>
 
 #include "dloam/core/types.hpp"
+#include "dloam/io/pointcloud2_fields.hpp"
 
 namespace dloam::ros1 {
 
-struct ConvertedCloud {
-  PointCloud cloud;
-  std::size_t dropped = 0;  ///< NaN/Inf points of an is_dense=false message (no returns), removed
-};
+using ConvertedCloud = io::ConvertedCloud;
 
 /// Converts one message; `where` names it in errors ("drive.bag: topic /points, message 12").
-/// Throws dloam::InputError for: no points, big-endian data, a missing x/y/z field, a field of
-/// an unsupported datatype or outside the point record, data shorter than the header announces,
-/// a NaN/Inf coordinate in a message that declares is_dense, a message with no finite point.
-/// Non-finite points of an is_dense=false message (organised clouds mark no-return pixels so)
-/// are removed and counted in `dropped`; the point order of the others is kept.
+/// The errors and the handling of non-finite points are io::convert_cloud()'s.
 ConvertedCloud from_pointcloud2(const sensor_msgs::PointCloud2& msg, const std::string& where);
 
 /// A PointCloud2 with float32 x y z, intensity (when the cloud has it), time (float32 sweep

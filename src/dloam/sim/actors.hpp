@@ -32,6 +32,7 @@ struct Actor {
   SpeedProfile profile;
   double s0 = 0.0;  ///< arc length along the path at t = 0
   bool stop_and_go = false;
+  std::string role;  ///< scripted objects: what they do (scenario.json); empty for road users
   /// The actor exists from t_begin to t_end (s); it appears and vanishes only out of sensor range.
   double t_begin = -1e9, t_end = 1e9;
 

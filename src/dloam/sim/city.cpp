@@ -15,7 +15,7 @@ RaisedArea CityLayout::block_area(int i, int j) const {
 }
 
 namespace {
-constexpr double kMargin = 40.0;  // road beyond the outermost streets
+constexpr double kMargin = 40.0;  // road beyond the outermost streets along y
 
 // One side of a block: from `a` to `b` along the curb, outward normal given by `yaw` (facade frame).
 struct Side {
@@ -68,7 +68,13 @@ void add_lots(World& w, Rng& rng, const CityLayout& city, const Side& side) {
   }
 }
 
-void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) {
+bool kept_clear(const std::vector<RaisedArea>& keep_clear, const Vec2& at) {
+  return std::any_of(keep_clear.begin(), keep_clear.end(),
+                     [&](const RaisedArea& r) { return r.contains(at.x(), at.y()); });
+}
+
+void add_street_furniture(World& w, Rng& rng, const Side& curb, double density,
+                          const std::vector<RaisedArea>& keep_clear) {
   const Vec2 dir = (curb.b - curb.a).normalized();
   const Vec2 out(-std::sin(curb.yaw), std::cos(curb.yaw));
   const double length = (curb.b - curb.a).norm();
@@ -76,6 +82,11 @@ void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) 
     if (!chance(rng, std::min(0.95, 0.6 * density))) continue;
     const Vec2 at = curb.a + x * dir - 0.9 * out;
     const double h = uniform(rng, 5.0, 12.0);
+    if (kept_clear(keep_clear, at)) {
+      Mesh unused;  // the same draws, so that the rest of the street does not change
+      add_tree(unused, rng, w.ground, at, h);
+      continue;
+    }
     add_tree(w.static_mesh, rng, w.ground, at, h);
     w.objects.push_back({"tree", 0, Vec3(at.x(), at.y(), 0.0), 0.0, {h * 0.4, h * 0.4, h}});
   }
@@ -84,13 +95,15 @@ void add_street_furniture(World& w, Rng& rng, const Side& curb, double density) 
     const Vec2 at = curb.a + x * dir - 0.45 * out;
     const bool lamp = chance(rng, 0.7);
     const double h = lamp ? uniform(rng, 6.0, 8.0) : uniform(rng, 2.5, 3.5);
+    if (kept_clear(keep_clear, at)) continue;
     add_pole(w.static_mesh, w.ground, at, h, lamp, std::atan2(out.y(), out.x()));
     w.objects.push_back({lamp ? "street_lamp" : "pole", 0, Vec3(at.x(), at.y(), 0.0), 0.0, {0.2, 0.2, h}});
   }
 }
 
 // Parked cars along one curb of a street segment: `a`-`b` on the parking line.
-void add_parked_cars(World& w, Rng& rng, const Vec2& a, const Vec2& b, double density) {
+void add_parked_cars(World& w, Rng& rng, const Vec2& a, const Vec2& b, double density,
+                     const std::vector<RaisedArea>& keep_clear) {
   const Vec2 dir = (b - a).normalized();
   const double length = (b - a).norm(), heading = std::atan2(dir.y(), dir.x());
   for (double x = uniform(rng, 0.0, 4.0); x < length - 6.5;) {
@@ -103,11 +116,16 @@ void add_parked_cars(World& w, Rng& rng, const Vec2& a, const Vec2& b, double de
         x += slot;
         continue;
       }
+      const Vec2 at = a + (x + 0.5 * slot) * dir;
+      const double yaw = heading + (chance(rng, 0.25) ? M_PI : 0.0) + uniform(rng, -0.03, 0.03);
+      // A reserved slot stays empty; the draws above keep the rest of the street as it would be.
+      if (kept_clear(keep_clear, at)) {
+        x += slot;
+        continue;
+      }
       const std::uint32_t id = w.new_instance();
       const Label label = semantic::make(truck ? semantic::kOtherVehicle : semantic::kCar, id);
       for (auto& m : mesh.materials) m.label = label;
-      const Vec2 at = a + (x + 0.5 * slot) * dir;
-      const double yaw = heading + (chance(rng, 0.25) ? M_PI : 0.0) + uniform(rng, -0.03, 0.03);
       const Pose pose = ground_pose(w.ground, {at, yaw}, 0.0, true);
       w.static_mesh.append(mesh, pose);
       w.objects.push_back({truck ? "parked_truck" : "parked_car", id, pose.translation(), yaw, dims});
@@ -121,14 +139,15 @@ void build_city(World& w, const CityLayout& city, Rng& rng, double density) {
   const double h = 0.5 * city.street;
   for (int i = 0; i < city.nx; ++i)
     for (int j = 0; j < city.ny; ++j) w.ground.raised.push_back(city.block_area(i, j));
-  add_ground_grid(w.static_mesh, w.ground, -h - kMargin, -h - kMargin, city.street_x(city.nx) + h + kMargin,
-                  city.street_y(city.ny) + h + kMargin, 4.0, 0.0, [](double, double) {
+  add_ground_grid(w.static_mesh, w.ground, city.street_x(0) - h - city.margin_x0, -h - kMargin,
+                  city.street_x(city.nx) + h + city.margin_x1, city.street_y(city.ny) + h + kMargin, 4.0, 0.0,
+                  [](double, double) {
                     return Material{cls::kRoad, 0.22f};
                   });
   for (const RaisedArea& r : w.ground.raised) {
     add_block_ground(w, r, city.sidewalk);
     for (const Side& s : sides_of(r, city.sidewalk)) add_lots(w, rng, city, s);
-    for (const Side& s : sides_of(r, 0.0)) add_street_furniture(w, rng, s, density);
+    for (const Side& s : sides_of(r, 0.0)) add_street_furniture(w, rng, s, density, city.keep_clear);
   }
   // Parked cars along both curbs of every street segment between intersections.
   const double skip = h + 5.0;
@@ -136,13 +155,15 @@ void build_city(World& w, const CityLayout& city, Rng& rng, double density) {
     for (int i = 0; i < city.nx; ++i)
       for (double side : {-1.0, 1.0}) {
         const double y = city.street_y(j) + side * kParkingOffset;
-        add_parked_cars(w, rng, {city.street_x(i) + skip, y}, {city.street_x(i + 1) - skip, y}, density);
+        add_parked_cars(w, rng, {city.street_x(i) + skip, y}, {city.street_x(i + 1) - skip, y}, density,
+                        city.keep_clear);
       }
   for (int i = 0; i <= city.nx; ++i)
     for (int j = 0; j < city.ny; ++j)
       for (double side : {-1.0, 1.0}) {
         const double x = city.street_x(i) + side * kParkingOffset;
-        add_parked_cars(w, rng, {x, city.street_y(j) + skip}, {x, city.street_y(j + 1) - skip}, density);
+        add_parked_cars(w, rng, {x, city.street_y(j) + skip}, {x, city.street_y(j + 1) - skip}, density,
+                        city.keep_clear);
       }
 }
 

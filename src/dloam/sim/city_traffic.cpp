@@ -22,6 +22,7 @@ EgoRoute sample_route(const Ego& ego, double duration, std::vector<StreetLane> e
 }
 
 bool fit_time_window(Actor& a, const EgoRoute& route, double clearance, double interest) {
+  clearance *= route.clearance_scale;
   const std::size_t n = route.times.size();
   std::vector<double> d(n);
   for (std::size_t k = 0; k < n; ++k)
@@ -81,7 +82,8 @@ void keep_if_ok(World& w, Actor a, const EgoRoute& route, double clearance) {
 Path lane_path(const CityLayout& city, const StreetLane& lane, double offset) {
   const double ext = 60.0;
   const double c = lane.horizontal ? city.street_y(lane.index) : city.street_x(lane.index);
-  const double lo = -ext, hi = (lane.horizontal ? city.street_x(city.nx) : city.street_y(city.ny)) + ext;
+  const double lo = (lane.horizontal ? city.street_x(0) : city.street_y(0)) - ext;
+  const double hi = (lane.horizontal ? city.street_x(city.nx) : city.street_y(city.ny)) + ext;
   // Right-hand traffic: heading +x drives at y - offset, heading +y at x + offset.
   const double lateral = lane.horizontal ? c - lane.direction * offset : c + lane.direction * offset;
   Vec2 a = lane.horizontal ? Vec2(lo, lateral) : Vec2(lateral, lo);
@@ -142,7 +144,8 @@ void add_street_walkers(World& w, const CityLayout& city, Rng& rng, double traff
   for (const StreetLane& ego_lane : route.ego_lanes)
     for (int dir : {1, -1}) {
       const StreetLane side{ego_lane.horizontal, ego_lane.index, dir};
-      const double length = ego_lane.horizontal ? city.street_x(city.nx) : city.street_y(city.ny);
+      const double length = ego_lane.horizontal ? city.street_x(city.nx) - city.street_x(0)
+                                                : city.street_y(city.ny) - city.street_y(0);
       const int n = static_cast<int>(std::lround(traffic * length / 20.0 * uniform(rng, 0.8, 1.2)));
       for (int k = 0; k < n; ++k) {
         Path path = lane_path(city, side, 0.5 * city.street + uniform(rng, 1.6, 3.0));
@@ -220,8 +223,8 @@ void add_vehicles(World& w, const CityLayout& city, Rng& rng, double traffic, co
                route, 1.8);
   }
 }
-// Whether `other` ever overlaps the vehicle `a` (footprint box against other's half length) while
-// both exist, sampled at the route's times.
+}  // namespace
+
 bool overlaps(const Actor& a, const Actor& other, const EgoRoute& route) {
   const double reach = 0.5 * std::max(other.dims.length, other.dims.width);
   for (double t : route.times) {
@@ -235,7 +238,6 @@ bool overlaps(const Actor& a, const Actor& other, const EgoRoute& route) {
   }
   return false;
 }
-}  // namespace
 
 void add_ego_flow(World& w, Rng& rng, double traffic, const EgoRoute& route) {
   // Chance of a queue ahead and of one behind: none up to the default traffic, certain from 3x.

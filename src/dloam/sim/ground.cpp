@@ -1,6 +1,7 @@
 // Terrain height/slope and poses of objects standing on it.
 #include "dloam/sim/ground.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dloam::sim {
@@ -27,6 +28,19 @@ double Ground::surface(double x, double y) const {
   for (const auto& r : raised)
     if (r.contains(x, y)) return h + r.height;
   return h;
+}
+
+double Ground::stepped_surface(double x, double y, double step_length) const {
+  double lift = 0.0;
+  for (const auto& r : raised) {
+    // Signed distance to the rectangle's edge: positive inside.
+    const double qx = std::max({r.x0 - x, 0.0, x - r.x1}), qy = std::max({r.y0 - y, 0.0, y - r.y1});
+    const double sd =
+        (qx > 0.0 || qy > 0.0) ? -std::hypot(qx, qy) : std::min({x - r.x0, r.x1 - x, y - r.y0, r.y1 - y});
+    const double u = std::clamp(sd / step_length + 0.5, 0.0, 1.0);
+    lift = std::max(lift, r.height * u * u * (3.0 - 2.0 * u));
+  }
+  return terrain(x, y) + lift;
 }
 
 Pose ground_pose(const Ground& ground, const PathPoint& pp, double height_above_surface, bool tilt) {

@@ -29,6 +29,9 @@ struct Ground {
   [[nodiscard]] Vec2 gradient(double x, double y) const;
   /// Height of the walkable surface: terrain plus the raised area containing (x, y), if any.
   [[nodiscard]] double surface(double x, double y) const;
+  /// surface() with each raised area's edge (curb) spread over `step_length` metres centred on it
+  /// (smoothstep across the edge): where a walker's feet carry the body up or down a curb.
+  [[nodiscard]] double stepped_surface(double x, double y, double step_length) const;
 };
 
 /// Pose of an object standing on the ground at `pp` (x forward along the path, z up). With `tilt`,

@@ -132,6 +132,7 @@ World make_highway_world(const ScenarioParams& params) {
   w.ego.path = road.offset(lane_offset(ego_lane));
   w.ego.s0 = margin;
   w.ego.profile = SpeedProfile::constant(v);
+  plan_car(w, params, v, duration, {-kLaneWidth, 0.0, kLaneWidth});  // swerves to the next lanes
   const EgoRoute route = sample_route(w.ego, duration, {}, params.max_range);
   const Path reverse = road.reversed();
   for (int lane = 0; lane < 3; ++lane) {

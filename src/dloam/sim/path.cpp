@@ -295,4 +295,49 @@ double SpeedProfile::distance_from_first_key(double t) const {
 
 double SpeedProfile::distance(double t) const { return distance_from_first_key(t) - offset_; }
 
+RateProfile::RateProfile(std::vector<RateKey> keys) : keys_(std::move(keys)) {
+  if (keys_.empty()) throw std::invalid_argument("rate profile: no keys");
+  cumulative_.assign(keys_.size(), 0.0);
+  for (std::size_t i = 0; i < keys_.size(); ++i) {
+    if (!std::isfinite(keys_[i].rate) || !std::isfinite(keys_[i].t))
+      throw std::invalid_argument("rate profile: key not finite");
+    if (i == 0) continue;
+    const double dt = keys_[i].t - keys_[i - 1].t;
+    if (!(dt >= 0.0)) throw std::invalid_argument("rate profile: keys not sorted in time");
+    cumulative_[i] = cumulative_[i - 1] + 0.5 * (keys_[i].rate + keys_[i - 1].rate) * dt;
+  }
+  offset_ = integral_from_first_key(0.0);
+}
+
+double RateProfile::rate(double t) const {
+  if (t <= keys_.front().t) return keys_.front().rate;
+  if (t >= keys_.back().t) return keys_.back().rate;
+  auto it =
+      std::upper_bound(keys_.begin(), keys_.end(), t, [](double v, const RateKey& k) { return v < k.t; });
+  const RateKey& b = *it;
+  const RateKey& a = *(it - 1);
+  const double dt = b.t - a.t;
+  return dt <= 0.0 ? b.rate : a.rate + (b.rate - a.rate) * (t - a.t) / dt;
+}
+
+double RateProfile::integral_from_first_key(double t) const {
+  if (t <= keys_.front().t) return keys_.front().rate * (t - keys_.front().t);
+  if (t >= keys_.back().t) return cumulative_.back() + keys_.back().rate * (t - keys_.back().t);
+  auto it =
+      std::upper_bound(keys_.begin(), keys_.end(), t, [](double v, const RateKey& k) { return v < k.t; });
+  const auto i = static_cast<std::size_t>(it - keys_.begin()) - 1;
+  return cumulative_[i] + 0.5 * (keys_[i].rate + rate(t)) * (t - keys_[i].t);
+}
+
+double RateProfile::value(double t) const { return integral_from_first_key(t) - offset_; }
+
+double RateProfile::max_slope() const {
+  double m = 0.0;
+  for (std::size_t i = 1; i < keys_.size(); ++i) {
+    const double dt = keys_[i].t - keys_[i - 1].t;
+    if (dt > 0.0) m = std::max(m, std::abs(keys_[i].rate - keys_[i - 1].rate) / dt);
+  }
+  return m;
+}
+
 }  // namespace dloam::sim

@@ -1,6 +1,7 @@
 // Motion along a planar path: a Path of straight lines joined by circular arcs (continuous
 // heading), parametrised by arc length, and a SpeedProfile giving the distance travelled along
-// it as a function of time (piecewise-linear speed, so stop-and-go motion is smooth).
+// it as a function of time (piecewise-linear speed, so stop-and-go motion is smooth). A
+// RateProfile is the signed counterpart (e.g. a yaw rate and the heading it integrates to).
 // Realism: a car cannot switch from straight to full steering lock instantly, so corners can have
 // clothoid transitions (curvature linear in arc length, the road-design spiral): at constant speed
 // v the yaw rate then ramps up and down with a bounded yaw acceleration v^2 / (R L) instead of
@@ -96,6 +97,35 @@ class SpeedProfile {
   std::vector<SpeedKey> keys_;
   std::vector<double> cumulative_;  ///< distance from the first key to each key
   double offset_ = 0.0;             ///< distance_from_first_key(0)
+};
+
+/// Rate keyframe: rate (any sign, e.g. rad/s) at time t (s).
+struct RateKey {
+  double t = 0.0;
+  double rate = 0.0;
+};
+
+/// A signed rate, linear between keys and constant before the first and after the last, and its
+/// integral from time 0: the rate is continuous and changes at most by the steepest key slope per
+/// second (for a yaw rate: a bounded angular acceleration).
+class RateProfile {
+ public:
+  RateProfile() : RateProfile(std::vector<RateKey>{{0.0, 0.0}}) {}
+  /// Throws std::invalid_argument when empty, unsorted in time or not finite.
+  explicit RateProfile(std::vector<RateKey> keys);
+  static RateProfile constant(double rate) { return RateProfile({{0.0, rate}}); }
+  [[nodiscard]] double rate(double t) const;
+  /// Integral of the rate from time 0 to t (negative of the integral from t to 0 for t < 0).
+  [[nodiscard]] double value(double t) const;
+  /// Largest |d rate / dt| between keys.
+  [[nodiscard]] double max_slope() const;
+  [[nodiscard]] const std::vector<RateKey>& keys() const { return keys_; }
+
+ private:
+  [[nodiscard]] double integral_from_first_key(double t) const;
+  std::vector<RateKey> keys_;
+  std::vector<double> cumulative_;
+  double offset_ = 0.0;
 };
 
 }  // namespace dloam::sim

@@ -7,23 +7,9 @@
 #include <vector>
 
 #include "dloam/sim/actors.hpp"
+#include "dloam/sim/ego.hpp"
 
 namespace dloam::sim {
-
-/// The ego vehicle: follows `path` from arc length s0 with `profile`; the LiDAR sits
-/// `mount_height` above the ground (KITTI: 1.73 m), x forward, z up.
-struct Ego {
-  Path path;
-  SpeedProfile profile;
-  double s0 = 0.0;
-  double mount_height = 1.73;
-
-  /// Sensor -> world at absolute time t (s).
-  [[nodiscard]] Pose sensor_pose(const Ground& ground, double t) const {
-    return ground_pose(ground, path.at(s0 + profile.distance(t)), mount_height, true);
-  }
-  [[nodiscard]] Vec2 position(double t) const { return path.at(s0 + profile.distance(t)).p; }
-};
 
 /// A static object, for the scenario description (parked cars carry an instance id).
 struct StaticObject {

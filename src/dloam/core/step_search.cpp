@@ -1,0 +1,80 @@
+#include "dloam/core/step_search.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dloam/core/se3.hpp"
+
+namespace dloam {
+
+namespace {
+RegistrationParams stage_params(double radius, int iterations) {
+  RegistrationParams p;
+  p.max_iterations = iterations;
+  p.max_correspondence = radius;
+  p.huber = std::max(0.1, 0.3 * radius);
+  p.dof = kAllDof;
+  return p;
+}
+
+/// Offsets k * step for k = -n..n with n * step <= max (0 first, then alternating sides).
+std::vector<double> offsets(double max, double step) {
+  std::vector<double> out{0.0};
+  if (step <= 0.0) return out;
+  const int n = static_cast<int>(std::floor(max / step + 1e-9));
+  for (int k = 1; k <= n; ++k) {
+    out.push_back(k * step);
+    out.push_back(-k * step);
+  }
+  return out;
+}
+}  // namespace
+
+StepSearchResult search_step(const FeatureSource& source, const FeatureMap& target,
+                             const std::vector<Pose>& centres, const StepSearchOptions& options,
+                             const StepScore& score) {
+  std::vector<Pose> candidates;
+  for (std::size_t c = 0; c < centres.size(); ++c) {
+    bool duplicate = false;
+    for (std::size_t d = 0; d < c; ++d) duplicate = duplicate || centres[c].isApprox(centres[d], 1e-9);
+    if (duplicate) continue;
+    for (double yaw : offsets(options.max_rotation, options.rotation_step))
+      for (double dx : offsets(options.max_translation, options.translation_step)) {
+        Pose offset = Pose::Identity();
+        offset.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
+        offset.translation() = Vec3(dx, 0.0, 0.0);
+        candidates.push_back(centres[c] * offset);
+      }
+  }
+  StepSearchResult best;
+  best.candidates = candidates.size();
+  if (candidates.empty()) return best;
+  std::vector<double> coarse(candidates.size());
+  tbb::parallel_for(std::size_t{0}, candidates.size(),
+                    [&](std::size_t i) { coarse[i] = score(candidates[i], options.coarse_tolerance); });
+  std::vector<std::size_t> order(candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return coarse[a] > coarse[b]; });
+  order.resize(std::min(order.size(), std::max<std::size_t>(1, options.refine)));
+  std::vector<Pose> refined(order.size());
+  std::vector<double> fine(order.size());
+  tbb::parallel_for(std::size_t{0}, order.size(), [&](std::size_t k) {
+    Pose T = candidates[order[k]];
+    for (double radius : options.radii)
+      T = register_features(source, target, T, stage_params(radius, options.iterations)).T;
+    refined[k] = T;
+    fine[k] = score(T, options.fine_tolerance);
+  });
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k == 0 || fine[k] > best.fitness) {
+      best.fitness = fine[k];
+      best.T = refined[k];
+    }
+  }
+  return best;
+}
+
+}  // namespace dloam
