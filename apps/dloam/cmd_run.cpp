@@ -33,7 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunArgs {
-  std::string sequence, out, config_path, preset, detector, deskew, gt_frame = "auto";
+  std::string sequence, out, config_path, preset, detector, deskew, platform, gt_frame = "auto";
   InputArgs input;
   std::vector<double> lengths;
   long first = 0, count = -1;
@@ -48,6 +48,7 @@ PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nul
   if (!a.detector.empty()) cfg.detection.detector = a.detector;
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;
+  if (!a.platform.empty()) cfg.motion = motion_preset(a.platform);
   io::validate_config(cfg, a.config_path.empty() ? "built-in config" : a.config_path);
   return cfg;
 }
@@ -500,6 +501,10 @@ void register_run(CLI::App& app) {
                   "calib.txt; a calib.txt without Tr is an error), lidar, camera")
       ->check(CLI::IsMember({"auto", "lidar", "camera"}))
       ->capture_default_str();
+  cmd->add_option(
+         "--platform", args->platform,
+         "motion limits of the platform (the config's motion section): car (default), handheld, legged")
+      ->check(CLI::IsMember(motion_platform_names()));
   cmd->add_option("--lengths", args->lengths,
                   "segment lengths (m) for metrics.json; default: devkit 100..800, "
                   "or 5,10,20,30 with every frame as a start on drives under 200 m")
