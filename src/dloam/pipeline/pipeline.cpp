@@ -76,7 +76,7 @@ Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter
 }
 
 Pipeline::~Pipeline() {
-  if (job_) job_->output.wait();
+  if (job_ && job_->output.valid()) job_->output.wait();
 }
 
 ScanInterval Pipeline::interval_of(const PointCloud& cloud, ScanResult& out) {
@@ -368,13 +368,18 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
   in.keyframe = mapper_.needs_keyframe(in.predicted);
   out.mapped = true;
   out.keyframe = in.keyframe;
-  if (in.keyframe) {
+  // A keyframe whose scan gave no map points (the first scan with a detector on: its moving
+  // objects are unknown) takes those of the next mapped scan that has some; a vehicle standing
+  // still makes no second keyframe and would map nothing.
+  const bool fill = !in.keyframe && keyframe_without_points_ && !map_points.empty();
+  if (in.keyframe || fill) {
     out.map_points = std::move(map_points);
     in.points.reserve(out.map_points.size());
     for (std::size_t i : out.map_points) in.points.push_back(points[i]);
+    keyframe_without_points_ = in.keyframe && out.map_points.empty();
   }
-  if (count_ == 0) {  // wait for the first motion (scan 1) to de-skew it
-    first_.emplace();
+  if (count_ == 0) {              // wait for the first motion (scan 1) to de-skew it
+    first_.emplace(FirstScan{});  // not emplace(): clang rejects it for a nested struct with initialisers
     if (!times.empty()) {
       first_->raw = raw;
       first_->times = times;
@@ -405,8 +410,19 @@ void Pipeline::start_job(MappingInput input) {
   job.output = std::async(std::launch::async, [this, in = std::move(input)] {
     const auto start = std::chrono::steady_clock::now();
     MappingOutput o;
-    o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe);
-    if (in.keyframe) mapper_.add_to_global_map(in.points);
+    const std::string where = "mapping of scan " + std::to_string(in.scan) + ": ";
+    try {
+      o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe);
+      if (in.keyframe) {
+        mapper_.add_to_global_map(in.points);
+      } else if (!in.points.empty()) {  // the points of a keyframe that had none (map_scan)
+        mapper_.add_to_global_map(in.points, o.result.pose);
+      }
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(where + e.what());
+    }
     o.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return o;
   });
@@ -415,14 +431,16 @@ void Pipeline::start_job(MappingInput input) {
 
 void Pipeline::integrate_job(ScanResult* out) {
   if (!job_) return;
-  const MappingOutput o = job_->output.get();  // rethrows the job's exception
-  correction_ = normalized(o.result.pose * job_->odometry_pose.inverse());
-  mapped_.emplace_back(job_->scan, o.result.pose);
+  // The job leaves job_ before get() rethrows its exception: a failed job is not joined twice.
+  Job job = std::move(*job_);
+  job_.reset();
+  const MappingOutput o = job.output.get();  // rethrows the job's exception
+  correction_ = normalized(o.result.pose * job.odometry_pose.inverse());
+  mapped_.emplace_back(job.scan, o.result.pose);
   if (out) {
     out->loop_closed = out->loop_closed || o.result.loop.has_value();
     out->times[Module::kMapping] += o.ms;
   }
-  job_.reset();
 }
 
 void Pipeline::finish() {

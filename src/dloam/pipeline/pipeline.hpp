@@ -147,6 +147,7 @@ class Pipeline {
   std::vector<Pose> odometry_poses_;                  ///< per scan
   std::vector<std::pair<std::size_t, Pose>> mapped_;  ///< (scan, refined pose) of integrated jobs
   std::optional<FirstScan> first_;
+  bool keyframe_without_points_ = false;  ///< the newest keyframe's scan added no map points
   struct Job {
     std::size_t scan = 0;
     Pose odometry_pose = Pose::Identity();
