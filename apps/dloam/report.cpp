@@ -38,6 +38,9 @@ void print_odometry(const eval::OdometryResult& r, const std::string& frame) {
   fmt::print(
       "  RPE per frame: translation RMSE {:.4f} m (mean {:.4f}), rotation RMSE {:.4f} deg (mean {:.4f})\n",
       r.rpe.trans_m.rmse, r.rpe.trans_m.mean, r.rpe.rot_deg.rmse, r.rpe.rot_deg.mean);
+  if (r.rpe.steps > 0)
+    fmt::print("  steps within {:g} cm and {:g} deg: {} of {} ({:.1f} %)\n", eval::kTrackedStepM * 100,
+               eval::kTrackedStepDeg, r.rpe.tracked, r.rpe.steps, 100.0 * r.rpe.tracked / r.rpe.steps);
 }
 
 json odometry_json(const eval::OdometryResult& r, const eval::SegmentOptions& options,
@@ -64,7 +67,9 @@ json odometry_json(const eval::OdometryResult& r, const eval::SegmentOptions& op
           {"rpe_trans_m", r.rpe.trans_m.rmse},
           {"rpe_trans_mean_m", r.rpe.trans_m.mean},
           {"rpe_rot_deg", r.rpe.rot_deg.rmse},
-          {"rpe_rot_mean_deg", r.rpe.rot_deg.mean}};
+          {"rpe_rot_mean_deg", r.rpe.rot_deg.mean},
+          {"steps", r.rpe.steps},
+          {"steps_tracked", r.rpe.tracked}};
 }
 
 void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,

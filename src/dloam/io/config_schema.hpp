@@ -24,6 +24,10 @@ inline Range above(double lo) { return {lo, kInf, true, false}; }
 inline Range within(double lo, double hi) { return {lo, hi, false, false}; }
 /// Allowed values of a string; empty = any.
 using Choices = std::vector<std::string>;
+/// Smallest voxel size (m) of any downsampling: the voxel keys are 32-bit integers per axis.
+inline constexpr double kMinLeafSize = 0.001;
+/// Farthest range (m) a sensor model may keep: no LiDAR measures beyond it.
+inline constexpr double kMaxSensorRange = 10000.0;
 
 template <class V>
 void visit(InputConfig& c, V& v) {
@@ -54,8 +58,10 @@ void visit(SensorConfig& c, V& v) {
     "height of each beam's origin (m), bottom beam first; [] = all 0", within(-1, 1));
   v("Pit_bottom", c.Pit_bottom, "lowest beam pitch (deg), Pit_bottom of eq. 4", within(-90, 90));
   v("fov_top", c.fov_top, "highest beam pitch (deg); R_vert = span / (N_scan - 1)", within(-90, 90));
-  v("min_range", c.min_range, "points closer than this (m) are dropped (ego vehicle)", at_least(0));
-  v("max_range", c.max_range, "points farther than this (m) are dropped", above(0));
+  v("min_range", c.min_range, "points closer than this (m) are dropped (ego vehicle)",
+    within(0, kMaxSensorRange));
+  v("max_range", c.max_range, "points farther than this (m) are dropped",
+    Range{0, kMaxSensorRange, true, false});
   v("scan_rate_hz", c.scan_rate_hz, "sweeps per second", above(0));
   v("vertical_angle_correction_deg", c.vertical_angle_correction_deg,
     "added to point elevations (deg); KITTI HDL-64E: 0.2-0.25", within(-5, 5));
@@ -112,6 +118,8 @@ void visit(DeskewConfig& c, V& v) {
   v("enabled", c.enabled, "de-skew by interpolating T_coarse over the sweep (eq. 12)", Range{});
   v("time_source", c.time_source, "t_i: auto (data's time, else azimuth) | azimuth | none",
     Choices{"auto", "azimuth", "none"});
+  v("acceleration", c.acceleration,
+    "extrapolate the step's velocity to the sweep's reference time with the last velocity change", Range{});
 }
 
 template <class V>
@@ -161,6 +169,9 @@ void visit(OdometryConfig& c, V& v) {
     at_least(1));
   v("max_correspondence", c.max_correspondence, "nearest-feature search radius (m) around the initial guess",
     above(0));
+  v("max_level_tilt_deg", c.max_level_tilt_deg,
+    "deg: a sensor tilted more than this from level is registered in all 6 DoF at once (no two-step LM)",
+    within(0, 90));
   v("weight_compensation", c.weight_compensation, "weight features by s_i (1 - r_horiz / |theta|) (eq. 15)",
     Range{});
   v("pseudo_static_rejection", c.pseudo_static_rejection, "RANSAC rejection of pseudo-static features",
