@@ -504,9 +504,6 @@ void register_run(CLI::App& app) {
   cmd->add_flag(
       "--clean", args->clean,
       "then the whole-drive pass (`dloam clean`) over the run: labels and static map in --out/clean");
-  cmd->add_flag(
-      "--clean", args->clean,
-      "then the whole-drive pass (`dloam clean`) over the run: labels and static map in --out/clean");
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--gt-frame", args->gt_frame,
