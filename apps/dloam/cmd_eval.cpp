@@ -15,8 +15,9 @@
 #include "dloam/eval/plot.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/kitti.hpp"
+#include "dloam/run/metrics.hpp"
 #include "gnuplot.hpp"
-#include "report.hpp"
+#include "odometry_table.hpp"
 
 namespace dloam::app {
 namespace {
@@ -90,7 +91,7 @@ void run_odometry(const OdometryArgs& args, bool lengths_given, bool step_given)
   const std::string frame = args.calib.empty() ? "as given" : "lidar (Tr^-1 P Tr)";
   print_odometry(r, frame);
   if (!args.json_path.empty()) {
-    json doc = odometry_json(r, options, frame);
+    json doc = run::odometry_json(r, options, frame);
     doc["gt"] = args.gt;
     doc["estimate"] = args.est;
     write_json(args.json_path, doc);
@@ -125,33 +126,11 @@ void run_mos(const MosArgs& args) {
     const auto pred = io::read_labels(pred_file.string(), gt.size());
     eval::add_scan(r, gt, pred, args.object_threshold);
   }
-  const auto& p = r.points;
-  const auto& o = r.objects;
-  fmt::print("MOS: {} scans, {} points ({} ignored: ground truth unlabeled/outlier)\n", r.scans,
-             p.tp + p.fp + p.fn + p.tn + p.ignored, p.ignored);
-  fmt::print("  points   IoU {:.4f}  precision {:.4f}  recall {:.4f}  static IoU {:.4f}\n", p.iou(),
-             p.precision(), p.recall(), p.static_iou());
-  fmt::print("           TP {}  FP {}  FN {}  TN {}\n", p.tp, p.fp, p.fn, p.tn);
-  fmt::print("  objects  IoU {:.4f}  TP {}  FP {}  FN {}  (detected: > {:g} % of points predicted moving)\n",
-             o.iou(), o.tp, o.fp, o.fn, 100.0 * args.object_threshold);
+  print_mos(r, args.object_threshold);
   if (!args.json_path.empty()) {
-    write_json(args.json_path, {{"gt_dir", args.gt_dir},
-                                {"pred_dir", args.pred_dir},
-                                {"scans", r.scans},
-                                {"iou", p.iou()},
-                                {"precision", p.precision()},
-                                {"recall", p.recall()},
-                                {"static_iou", p.static_iou()},
-                                {"tp", p.tp},
-                                {"fp", p.fp},
-                                {"fn", p.fn},
-                                {"tn", p.tn},
-                                {"ignored", p.ignored},
-                                {"object_iou", o.iou()},
-                                {"object_tp", o.tp},
-                                {"object_fp", o.fp},
-                                {"object_fn", o.fn},
-                                {"object_threshold", args.object_threshold}});
+    json doc = {{"gt_dir", args.gt_dir}, {"pred_dir", args.pred_dir}};
+    doc.update(run::mos_json(r, args.object_threshold));
+    write_json(args.json_path, doc);
   }
 }
 
