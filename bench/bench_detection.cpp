@@ -43,6 +43,17 @@ const Data& data() {
   return d;
 }
 
+/// The step prior the pipeline gives the dynamic stage: the car preset's gate over one sweep.
+StepPrior prior(const Pose& predicted) {
+  const PipelineConfig cfg;
+  StepPrior p;
+  p.predicted = predicted;
+  p.gate = MotionModel(cfg.motion).gate(p.interval.dt);
+  p.search_range = cfg.motion.max_speed * p.interval.dt;
+  p.yaw_range = cfg.motion.max_angular_speed_deg * M_PI / 180.0 * p.interval.dt;
+  return p;
+}
+
 void BM_ExtractObjects(benchmark::State& st) {
   const Data& d = data();
   const auto pts = deskew(d.raw[1], d.times[1], d.motion);
@@ -58,7 +69,8 @@ void BM_CoarseMotion(benchmark::State& st) {
   FeatureMap target;
   target.edges.build(prev.poles);
   target.planes.build(prev.planes);
-  for (auto _ : st) benchmark::DoNotOptimize(coarse_motion(cur, target, d.motion, d.cfg.preregistration));
+  for (auto _ : st)
+    benchmark::DoNotOptimize(coarse_motion(cur, target, d.motion, d.cfg.preregistration, nullptr));
 }
 
 void BM_SpeedMatrixAndDetector(benchmark::State& st) {
@@ -90,13 +102,13 @@ void BM_DynamicStage(benchmark::State& st) {
   for (auto _ : st) {
     st.PauseTiming();
     DynamicStage stage(d.cfg);
-    stage.process(d.raw[0], d.times[0], deskew(d.raw[0], d.times[0], d.motion), d.seg[0], d.motion);
-    stage.process(d.raw[1], d.times[1], deskew(d.raw[1], d.times[1], d.motion), d.seg[1], d.motion);
+    stage.process(d.raw[0], d.times[0], deskew(d.raw[0], d.times[0], d.motion), d.seg[0], prior(d.motion));
+    stage.process(d.raw[1], d.times[1], deskew(d.raw[1], d.times[1], d.motion), d.seg[1], prior(d.motion));
     auto next = deskew(d.raw[0], d.times[0], d.motion.inverse());
     st.ResumeTiming();
     // Scan 10 again after scan 11: a drive backwards, the same work as a new scan.
     benchmark::DoNotOptimize(
-        stage.process(d.raw[0], d.times[0], std::move(next), d.seg[0], d.motion.inverse()));
+        stage.process(d.raw[0], d.times[0], std::move(next), d.seg[0], prior(d.motion.inverse())));
   }
 }
 
@@ -106,9 +118,10 @@ void BM_DynamicStageFirstPair(benchmark::State& st) {
   for (auto _ : st) {
     st.PauseTiming();
     DynamicStage stage(d.cfg);
-    stage.process(d.raw[0], d.times[0], d.raw[0], d.seg[0], Pose::Identity());
+    stage.process(d.raw[0], d.times[0], d.raw[0], d.seg[0], prior(Pose::Identity()));
     st.ResumeTiming();
-    benchmark::DoNotOptimize(stage.process(d.raw[1], d.times[1], d.raw[1], d.seg[1], Pose::Identity()));
+    benchmark::DoNotOptimize(
+        stage.process(d.raw[1], d.times[1], d.raw[1], d.seg[1], prior(Pose::Identity())));
   }
 }
 

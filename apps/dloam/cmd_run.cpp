@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
 
 struct RunArgs {
-  std::string sequence, out, detector, deskew;
+  std::string sequence, out, detector, deskew, platform;
   ConfigArgs config;
   InputArgs input;
   std::vector<double> lengths;
@@ -47,6 +47,7 @@ PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nul
   if (!a.detector.empty()) cfg.detection.detector = *enum_from_name<Detector>(a.detector);  // parser-checked
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;
+  if (!a.platform.empty()) cfg.motion = motion_preset(a.platform);
   io::validate_config(cfg, c.config_path.empty() ? "built-in config" : c.config_path);
   return cfg;
 }
@@ -209,6 +210,10 @@ void register_run(CLI::App& app) {
       "detector's reference for studies (use with --detector none); written labels mark them moving");
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option(
+         "--platform", args->platform,
+         "motion limits of the platform (the config's motion section): car (default), handheld, legged")
+      ->check(CLI::IsMember(motion_platform_names()));
   cmd->add_option("--lengths", args->lengths,
                   "segment lengths (m) for metrics.json; default: devkit 100..800, "
                   "or 5,10,20,30 with every frame as a start on drives under 200 m")

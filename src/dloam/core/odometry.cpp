@@ -5,7 +5,7 @@
 namespace dloam {
 
 OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Pose& predicted,
-                                            bool with_rejection) const {
+                                            bool with_rejection, bool level) const {
   OdometryResult out;
   out.motion = predicted;
   if (previous_) {
@@ -16,6 +16,13 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
     p.degeneracy_eigenvalue = 10.0;  // per 3-DoF step, as LeGO-LOAM; the sharp sets are small
 
     auto two_step = [&](const FeatureSource& src, const Pose& initial) {
+      if (!level) {
+        // A tilted sensor: its z axis is not the world's vertical, so planes do not constrain
+        // [t_z, roll, pitch] alone: every feature constrains all six degrees of freedom at once.
+        p.dof = kAllDof;
+        out.plane_step = out.edge_step = register_features(src, *previous_, initial, p);
+        return out.edge_step;
+      }
       FeatureSource planes_only{{}, src.planes, {}, src.plane_weights};
       p.dof = kPlaneStepDof;
       out.plane_step = register_features(planes_only, *previous_, initial, p);

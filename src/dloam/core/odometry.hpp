@@ -19,6 +19,9 @@ struct OdometryConfig {
   /// (fence posts, lamp rows) and unflagged traffic pull the estimate along the road.
   double max_correspondence = 2.0;
   bool weight_compensation = true;  ///< eq. 15
+  /// deg: a sensor tilted more than this (its ground normal from its z axis) is registered in all
+  /// six degrees of freedom at once instead of the two-step LM (handheld, legged platforms).
+  double max_level_tilt_deg = 5.0;
   bool pseudo_static_rejection = true;
   int N_pseudo = 5;   ///< RANSAC iterations of pseudo-static rejection
   double beta = 0.1;  ///< fraction of worst-matching features removed per iteration
@@ -49,8 +52,10 @@ class ScanToScanOdometry {
     return out;
   }
   /// The motion of `sharp` against the previous scan's features (predicted motion when none yet).
+  /// `level`: the sensor's z axis is (close to) vertical, so the two-step LM applies; otherwise all
+  /// six degrees of freedom are estimated together.
   [[nodiscard]] OdometryResult estimate(const FeatureSource& sharp, const Pose& predicted,
-                                        bool with_rejection = false) const;
+                                        bool with_rejection = false, bool level = true) const;
   /// F_e / F_p of the current scan become the next scan's target.
   void set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes);
   /// The previous scan's F_e / F_p, or null before the first scan.

@@ -161,6 +161,9 @@ void visit(OdometryConfig& c, V& v) {
     at_least(1));
   v("max_correspondence", c.max_correspondence, "nearest-feature search radius (m) around the initial guess",
     above(0));
+  v("max_level_tilt_deg", c.max_level_tilt_deg,
+    "deg: a sensor tilted more than this from level is registered in all 6 DoF at once (no two-step LM)",
+    within(0, 90));
   v("weight_compensation", c.weight_compensation, "weight features by s_i (1 - r_horiz / |theta|) (eq. 15)",
     Range{});
   v("pseudo_static_rejection", c.pseudo_static_rejection, "RANSAC rejection of pseudo-static features",

@@ -229,6 +229,10 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       sharp.plane_weights = compensated_weights(features.f_p_index, seg.image, dyn.column_distance);
     }
     const bool reject = dynamic_ != nullptr;
+    // The two-step LM assumes the sensor's z axis is vertical: the ground normal tells.
+    const bool level =
+        !(seg.ground_plane_valid &&
+          seg.ground_normal.normalized().z() < std::cos(config_.odometry.max_level_tilt_deg * M_PI / 180.0));
     // T_coarse (static poles / planes, III.D.1) is the initial guess when valid; the features
     // were de-skewed with it.
     const Pose initial = dynamic_ && dyn.coarse_valid ? dyn.T_coarse : predicted;
@@ -245,12 +249,12 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // de-skewed scan to a skewed one is biased by the sweep's motion (a first step up to 6 cm short
     // at 25 km/h, which the map built on the first scan then keeps).
     if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(interval.sweep_motion(initial));
-    auto odo = believe(odometry_.estimate(sharp, initial, reject));
+    auto odo = believe(odometry_.estimate(sharp, initial, reject, level));
     if (first_pair) {
       // The first motion is known; de-skew the first scan with it (constant velocity) and
       // estimate again against the corrected target.
       deskew_first_scan(interval.sweep_motion(odo.motion));
-      odo = believe(odometry_.estimate(sharp, odo.motion, reject));
+      odo = believe(odometry_.estimate(sharp, odo.motion, reject, level));
       first_->raw.clear();  // done
     }
     if (!times.empty() && count_ > 0) {
@@ -263,7 +267,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
         const Pose sweep = interval.sweep_motion(odo.motion);
         sharp.edges = deskew(raw, times, features.f_e_index, sweep);
         sharp.planes = deskew(raw, times, features.f_p_index, sweep);
-        odo = believe(odometry_.estimate(sharp, odo.motion, reject));
+        odo = believe(odometry_.estimate(sharp, odo.motion, reject, level));
       }
       const Pose sweep = interval.sweep_motion(odo.motion);
       features.F_e = deskew(raw, times, features.F_e_index, sweep);
