@@ -173,6 +173,21 @@ TEST_F(Report, HeadlessChromiumRendersThePlots) {
     EXPECT_NE(dom.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
 }
 
+TEST(ReportShortRun, APathShorterThanEverySegmentStillGetsItsPage) {
+  // 8 scans cover about 2.5 m: metrics.json has no relative error (null), the page says so.
+  if (!fs::exists(kData + "/velodyne/000000.bin")) GTEST_SKIP() << "shared data not found: " << kData;
+  const fs::path dir = fs::temp_directory_path() / ("dloam_test_report_short_" + std::to_string(::getpid()));
+  const auto r =
+      dloam::test::run_dloam("run " + kData + " --out " + dir.string() + " --config kitti-raw --count 8");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto report = dloam::test::run_dloam("report " + dir.string());
+  const std::string html = read_text(dir / "report.html");
+  fs::remove_all(dir);
+  ASSERT_EQ(report.status, 0) << report.output;
+  EXPECT_NE(html.find("id=\"relative-error\""), std::string::npos);
+  EXPECT_NE(html.find("t_rel (KITTI devkit)</th><td>- %"), std::string::npos);
+}
+
 TEST(ReportErrors, AFolderWithoutARunIsNamed) {
   const fs::path dir = fs::temp_directory_path() / ("dloam_test_report_empty_" + std::to_string(::getpid()));
   fs::create_directories(dir);

@@ -70,6 +70,19 @@ std::string number(double v, int digits) {
   return fmt::format("{:.{}f}", v, digits);
 }
 
+/// metrics.json's `key` of `j` as a number: NaN when it is missing or null (JSON has no NaN: an
+/// undefined value, e.g. the relative error of a path shorter than every segment, is written null).
+double num(const json& j, const char* key) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_number() ? it->get<double>() : NAN;
+}
+
+/// metrics.json's count `key` of `j`, 0 when it is missing or null.
+std::uint64_t count(const json& j, const char* key) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_number() ? it->get<std::uint64_t>() : 0;
+}
+
 /// What the report reads from the run folder.
 struct Run {
   std::string dir;
@@ -207,10 +220,12 @@ std::string trajectory_plot(Plotter& plot, const Run& r) {
 
 std::string relative_error_plot(Plotter& plot, const Run& r) {
   std::string body = "set grid\nset style fill solid 0.7\nset boxwidth 0.6\nset yrange [0:*]\nunset key\n";
-  const json* per_length = nullptr;
-  if (r.metrics.contains("odometry") && r.metrics["odometry"].contains("per_length") &&
-      !r.metrics["odometry"]["per_length"].empty())
-    per_length = &r.metrics["odometry"]["per_length"];
+  // The segment lengths with at least one segment.
+  json measured = json::array();
+  if (r.metrics.contains("odometry") && r.metrics["odometry"].contains("per_length"))
+    for (const json& e : r.metrics["odometry"]["per_length"])
+      if (count(e, "segments") > 0 && std::isfinite(num(e, "t_rel_pct"))) measured.push_back(e);
+  const json* per_length = measured.empty() ? nullptr : &measured;
   if (!per_length) {
     body += "set title 'relative error per segment length'\n";
     body += fmt::format("set label 1 {} at graph 0.5,0.5 center\n",
@@ -222,8 +237,8 @@ std::string relative_error_plot(Plotter& plot, const Run& r) {
   {
     std::ofstream out(plot.data_file("lengths.dat"));
     for (const json& e : *per_length)
-      out << e["length_m"].get<double>() << ' ' << e["t_rel_pct"].get<double>() << ' '
-          << e["r_rel_deg100m"].get<double>() << ' ' << e["segments"].get<std::size_t>() << '\n';
+      out << num(e, "length_m") << ' ' << num(e, "t_rel_pct") << ' ' << num(e, "r_rel_deg100m") << ' '
+          << count(e, "segments") << '\n';
   }
   const std::string data = quoted(plot.data_file("lengths.dat"));
   body += fmt::format(
@@ -300,16 +315,14 @@ std::string tables(const Run& r) {
   html << "<div><h2>Odometry</h2><table>\n";
   if (m.contains("odometry")) {
     const json& o = m["odometry"];
-    table_row(html, "frames", std::to_string(o.value("frames", 0)));
-    table_row(html, "ground-truth path", number(o.value("path_length_m", NAN), 2) + " m");
-    table_row(html, "t_rel (KITTI devkit)", number(o.value("t_rel_pct", NAN), 3) + " %");
+    table_row(html, "frames", std::to_string(count(o, "frames")));
+    table_row(html, "ground-truth path", number(num(o, "path_length_m"), 2) + " m");
+    table_row(html, "t_rel (KITTI devkit)", number(num(o, "t_rel_pct"), 3) + " %");
     table_row(html, "r_rel", number(o.value("r_rel_deg100m", NAN), 3) + " deg/100 m");
-    table_row(
-        html, "ATE",
-        number(o.value("ate_m", NAN), 3) + " m (aligned " + number(o.value("ate_aligned_m", NAN), 3) + " m)");
-    table_row(
-        html, "RPE per frame",
-        number(o.value("rpe_trans_m", NAN), 4) + " m, " + number(o.value("rpe_rot_deg", NAN), 4) + " deg");
+    table_row(html, "ATE",
+              number(num(o, "ate_m"), 3) + " m (aligned " + number(num(o, "ate_aligned_m"), 3) + " m)");
+    table_row(html, "RPE per frame",
+              number(num(o, "rpe_trans_m"), 4) + " m, " + number(num(o, "rpe_rot_deg"), 4) + " deg");
   } else {
     table_row(html, "ground truth", "none (no poses.txt in the input)");
   }
@@ -319,16 +332,16 @@ std::string tables(const Run& r) {
   if (m.contains("mos")) {
     const json& s = m["mos"];
     const auto pct = [&](const char* key) { return number(100.0 * s.value(key, NAN), 1) + " %"; };
-    table_row(html, "scans", std::to_string(s.value("scans", 0)));
+    table_row(html, "scans", std::to_string(count(s, "scans")));
     table_row(html, "point IoU", pct("iou"));
     table_row(html, "precision / recall", pct("precision") + " / " + pct("recall"));
     table_row(html, "static IoU", pct("static_iou"));
     table_row(html, "TP / FP / FN",
-              fmt::format("{} / {} / {}", s.value("tp", 0), s.value("fp", 0), s.value("fn", 0)));
+              fmt::format("{} / {} / {}", count(s, "tp"), count(s, "fp"), count(s, "fn")));
     table_row(html, "object IoU (eq. 16)", pct("object_iou"));
-    table_row(html, "objects TP / FP / FN",
-              fmt::format("{} / {} / {}", s.value("object_tp", 0), s.value("object_fp", 0),
-                          s.value("object_fn", 0)));
+    table_row(
+        html, "objects TP / FP / FN",
+        fmt::format("{} / {} / {}", count(s, "object_tp"), count(s, "object_fp"), count(s, "object_fn")));
   } else {
     table_row(html, "MOS",
               r.config.detection.detector == Detector::kNone ? "no detector in this run"
@@ -336,10 +349,10 @@ std::string tables(const Run& r) {
   }
   if (m.contains("map_input_moving_fraction"))
     table_row(html, "moving points sent to the map",
-              number(100.0 * m["map_input_moving_fraction"].get<double>(), 3) + " %");
-  if (m.contains("effective_feature_ratio") && m["effective_feature_ratio"].is_number())
+              number(100.0 * num(m, "map_input_moving_fraction"), 3) + " %");
+  if (m.contains("effective_feature_ratio"))
     table_row(html, "features on static points (Table III)",
-              number(100.0 * m["effective_feature_ratio"].get<double>(), 2) + " %");
+              number(100.0 * num(m, "effective_feature_ratio"), 2) + " %");
   html << "</table></div>\n";
 
   html << "<div><h2>Run</h2><table>\n";
@@ -352,12 +365,12 @@ std::string tables(const Run& r) {
   table_row(html, "scans", std::to_string(r.poses.size()));
   table_row(html, "map points", std::to_string(r.map.cloud.size()));
   if (m.contains("loop_closures"))
-    table_row(html, "loop closures", std::to_string(m["loop_closures"].get<int>()));
+    table_row(html, "loop closures", std::to_string(count(m, "loop_closures")));
   if (m.contains("tracking")) {
     const json& t = m["tracking"];
     table_row(html, "steps re-initialised / lost",
-              fmt::format("{} / {}", t.value("reinitialized_steps", 0), t.value("lost_steps", 0)));
-    table_row(html, "gaps in the scan times", std::to_string(t.value("gaps", 0)));
+              fmt::format("{} / {}", count(t, "reinitialized_steps"), count(t, "lost_steps")));
+    table_row(html, "gaps in the scan times", std::to_string(count(t, "gaps")));
   }
   html << "</table></div>\n</section>\n";
   return html.str();
