@@ -318,7 +318,7 @@ std::string tables(const Run& r) {
     table_row(html, "frames", std::to_string(count(o, "frames")));
     table_row(html, "ground-truth path", number(num(o, "path_length_m"), 2) + " m");
     table_row(html, "t_rel (KITTI devkit)", number(num(o, "t_rel_pct"), 3) + " %");
-    table_row(html, "r_rel", number(o.value("r_rel_deg100m", NAN), 3) + " deg/100 m");
+    table_row(html, "r_rel", number(num(o, "r_rel_deg100m"), 3) + " deg/100 m");
     table_row(html, "ATE",
               number(num(o, "ate_m"), 3) + " m (aligned " + number(num(o, "ate_aligned_m"), 3) + " m)");
     table_row(html, "RPE per frame",
@@ -331,7 +331,7 @@ std::string tables(const Run& r) {
   html << "<div><h2>Moving objects (MOS)</h2><table id=\"mos\">\n";
   if (m.contains("mos")) {
     const json& s = m["mos"];
-    const auto pct = [&](const char* key) { return number(100.0 * s.value(key, NAN), 1) + " %"; };
+    const auto pct = [&](const char* key) { return number(100.0 * num(s, key), 1) + " %"; };
     table_row(html, "scans", std::to_string(count(s, "scans")));
     table_row(html, "point IoU", pct("iou"));
     table_row(html, "precision / recall", pct("precision") + " / " + pct("recall"));
