@@ -55,7 +55,7 @@ endif()
 
 if(PYTHON AND PYTHON_DIR)
   run_step("importing the installed Python module" ${CMAKE_COMMAND} -E env "PYTHONPATH=${prefix}/${PYTHON_DIR}"
-           "${PYTHON}" -c "import dloam; print(dloam.__file__); print(dloam.data_dir())")
+           "${PYTHON}" -c "import dloam\nprint(dloam.__file__)\nprint(dloam.data_dir())")  # no ';': run_step's ARGN is a list
   message("${step_output}")
   string(FIND "${step_output}" "${prefix}" at)
   if(at LESS 0)
