@@ -8,11 +8,11 @@ BUILD_DIR=${1:-build}
 DLOAM="$BUILD_DIR/apps/dloam"
 OUT=${DLOAM_DEMO_OUT:-out/demo}
 
-"$DLOAM" simulate --scenario urban --frames 100 --seed 7 --out "$OUT/sim-urban"
-"$DLOAM" run "$OUT/sim-urban" --out "$OUT/run-urban"
+"$DLOAM" simulate --scenario urban --frames 100 --seed 7 --out "$OUT/sim-urban" --overwrite
+"$DLOAM" run "$OUT/sim-urban" --out "$OUT/run-urban" --overwrite
 
 KITTI=../shared/data/kitti-raw-0005
 if [[ -d "$KITTI" ]]; then
-  "$DLOAM" run "$KITTI" --out "$OUT/run-kitti-0005" --config config/kitti-raw.yaml
+  "$DLOAM" run "$KITTI" --out "$OUT/run-kitti-0005" --config config/kitti-raw.yaml --overwrite
 fi
 echo "demo outputs in $OUT"

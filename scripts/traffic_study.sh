@@ -42,13 +42,13 @@ for seed in $seeds; do
       --traffic "$t" --preset "$preset" --out "$d" >/dev/null 2>>"$work/runs.log"
   done
   d="$work/$scenario-s$seed-t$traffic"  # the drive in traffic
-  "$dloam" run "$work/$scenario-s$seed-t0" --out "$work/o-s$seed-t0-none" --detector none "${sensor[@]}" \
+  "$dloam" run "$work/$scenario-s$seed-t0" --overwrite --out "$work/o-s$seed-t0-none" --detector none "${sensor[@]}" \
     >/dev/null 2>>"$work/runs.log"
   for det in none "$detector"; do
-    "$dloam" run "$d" --out "$work/o-s$seed-t$traffic-$det" --detector "$det" "${sensor[@]}" \
+    "$dloam" run "$d" --overwrite --out "$work/o-s$seed-t$traffic-$det" --detector "$det" "${sensor[@]}" \
       >/dev/null 2>>"$work/runs.log"
   done
-  "$dloam" run "$d" --out "$work/o-s$seed-t$traffic-oracle" --detector none --drop-labelled-moving \
+  "$dloam" run "$d" --overwrite --out "$work/o-s$seed-t$traffic-oracle" --detector none --drop-labelled-moving \
     "${sensor[@]}" >/dev/null 2>>"$work/runs.log"
   a=$(score "$work/$scenario-s$seed-t0" "$work/o-s$seed-t0-none")
   b=$(score "$d" "$work/o-s$seed-t$traffic-none")

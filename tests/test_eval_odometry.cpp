@@ -140,6 +140,10 @@ TEST(EvalAbsolute, KnownOffsetAndPerFrameScaleError) {
   EXPECT_NEAR(r.trans_m.mean, 0.01, 1e-12);
   EXPECT_NEAR(r.trans_m.rmse, 0.01, 1e-12);
   EXPECT_NEAR(r.rot_deg.max, 0.0, 1e-9);
+  EXPECT_EQ(r.steps, 10u);
+  EXPECT_EQ(r.tracked, 10u);  // 1 cm per step
+  // Steps 6 cm too long are not tracked.
+  EXPECT_EQ(rpe(gt, straight_line(11, 1.06)).tracked, 0u);
   // Unaligned ATE of the scaled line: errors 0.01 * i for i = 0..10.
   double sum_sq = 0.0;
   for (int i = 0; i <= 10; ++i) sum_sq += 1e-4 * i * i;

@@ -59,6 +59,12 @@ TEST(GlobalMap, OneVoxelOwnerAndPointsMoveWithTheirKeyframe) {
 }
 
 TEST(GlobalMap, RejectsPointsOutsideItsRange) {
+  // 32-bit voxel keys: +-2e9 voxels, 400,000 km at 0.2 m, 2,000 km at the smallest leaf (1 mm).
   GlobalMap map(0.2);
-  EXPECT_THROW(map.add(0, {Vec3(1e6, 0, 0)}, Pose::Identity()), InputError);
+  EXPECT_NO_THROW(map.add(0, {Vec3(1e6, -1e6, 1e6)}, Pose::Identity()));
+  EXPECT_EQ(map.size(), 1u);
+  EXPECT_THROW(map.add(1, {Vec3(1e9, 0, 0)}, Pose::Identity()), InputError);
+  GlobalMap fine(0.001);
+  EXPECT_NO_THROW(fine.add(0, {Vec3(1.5e6, 0, 0)}, Pose::Identity()));
+  EXPECT_THROW(fine.add(1, {Vec3(2.5e6, 0, 0)}, Pose::Identity()), InputError);
 }

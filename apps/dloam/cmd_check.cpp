@@ -53,6 +53,9 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
     fmt::print("point times   {}\n", r.points_with_time == r.scans_ok ? "per-point time channel in every scan"
                                      : r.points_with_time == 0        ? "none (time from azimuth)"
                                                                       : "only in some scans");
+    if (r.dropped_points) fmt::print("no returns    {} NaN points dropped by the reader\n", r.dropped_points);
+    fmt::print("degenerate    {} scan{}{}\n", r.degenerate_scans, r.degenerate_scans == 1 ? "" : "s",
+               r.degenerate_scans ? " (listed above): too few points to register" : "");
   }
   fmt::print("labels        {}", yes_no(r.has_labels));
   if (r.has_labels) {
@@ -69,8 +72,8 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
     fmt::print(" (calib.txt keys: {})", keys);
   }
   fmt::print("\ntimes         {}", yes_no(r.has_times));
-  if (r.has_times && r.time_count > 1) {
-    const double rate = (r.time_count - 1) / (r.last_time - r.first_time);
+  if (r.has_times && r.time_count > 1 && r.last_time > r.first_time) {
+    const double rate = static_cast<double>(r.time_count - 1) / (r.last_time - r.first_time);
     fmt::print(" ({} times, {:.3f} .. {:.3f} s, {:.2f} Hz)", r.time_count, r.first_time, r.last_time, rate);
   }
   fmt::print("\n");
@@ -89,22 +92,35 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
   } else if (!r.sensor_error.empty()) {
     fmt::print("sensor        not estimated: {}\n", r.sensor_error);
   }
+  if (r.fit && r.fit->in_range > 0)
+    fmt::print("sensor fit    {:.1f} % of the first full scan's points in range lie on a beam of {}\n",
+               100.0 * static_cast<double>(r.fit->inside) / static_cast<double>(r.fit->in_range),
+               r.fit_sensor);
 }
 
 void run_check(const CheckArgs& a) {
   if (!a.config.preset.empty())
     (void)sensor_preset(a.config.preset);  // reject an unknown name before reading
-  SensorEstimationConfig estimation;
-  if (!a.config.config_path.empty())  // its vertical-angle correction applies to the points estimated from
-    estimation.vertical_angle_correction_deg =
-        io::config_from_allowing_auto("", a.config.config_path).sensor.vertical_angle_correction_deg;
-  const auto report = io::check_sequence(
-      a.dir,
-      [](const std::string& problem) {
-        fmt::print(stderr, "problem: {}\n", problem);
-        std::fflush(stderr);
-      },
-      io::input_options(apply_input_args(InputConfig{}, a.input)), estimation);
+  io::CheckOptions options;
+  options.input = io::input_options(apply_input_args(InputConfig{}, a.input));
+  if (!a.config.config_path.empty()) {  // its vertical-angle correction applies to the points estimated from
+    const PipelineConfig file = io::config_from_allowing_auto("", a.config.config_path);
+    options.estimation.vertical_angle_correction_deg = file.sensor.vertical_angle_correction_deg;
+  }
+  // The sensor `dloam run` would use with the same options: scans that do not fit it are problems.
+  if (!a.config.preset.empty() || !a.config.config_path.empty()) {
+    const PipelineConfig cfg = io::config_from_allowing_auto(a.config.preset, a.config.config_path);
+    if (!io::sensor_needs_estimate(cfg)) options.sensor = cfg.sensor;
+  }
+  options.on_problem = [](const std::string& problem) {
+    fmt::print(stderr, "problem: {}\n", problem);
+    std::fflush(stderr);
+  };
+  options.on_warning = [](const std::string& warning) {
+    fmt::print(stderr, "warning: {}\n", warning);
+    std::fflush(stderr);
+  };
+  const auto report = io::check_sequence(a.dir, options);
   print_summary(report, a.config.preset);
   if (!a.write_sensor.empty()) {
     if (!report.sensor) throw InputError(a.dir + ": no sensor model to write: " + report.sensor_error);
@@ -112,12 +128,16 @@ void run_check(const CheckArgs& a) {
     io::write_atomic(a.write_sensor, [&](std::ostream& o) { o << yaml; });
     fmt::print("wrote the estimated sensor section to {}\n", a.write_sensor);
   }
+  const std::string warnings = report.warnings.empty()
+                                   ? ""
+                                   : fmt::format(" ({} warning{} listed above)", report.warnings.size(),
+                                                 report.warnings.size() == 1 ? "" : "s");
   if (report.problems.empty()) {
-    fmt::print("OK: no problems found\n");
+    fmt::print("OK: no problems found{}\n", warnings);
     return;
   }
-  fmt::print("FAILED: {} problem{} (listed above)\n", report.problems.size(),
-             report.problems.size() == 1 ? "" : "s");
+  fmt::print("FAILED: {} problem{} (listed above){}\n", report.problems.size(),
+             report.problems.size() == 1 ? "" : "s", warnings);
   std::fflush(stdout);
   throw CLI::RuntimeError(1);
 }
@@ -135,10 +155,13 @@ void register_check(CLI::App& app) {
       ->required();
   add_input_options(cmd, args->input);
   ConfigHelp config_help;
-  config_help.preset = "sensor you expect ({presets}): warns if the data's beams differ from it";
+  config_help.preset =
+      "sensor you expect ({presets}; auto: estimated): scans that do not fit it are problems, as in `dloam "
+      "run`; "
+      "warns if the data's beams differ from it";
   config_help.config =
-      "YAML config (or shipped name) whose sensor.vertical_angle_correction_deg is applied before estimating "
-      "(e.g. kitti-raw: 0.22 for KITTI); other keys are not used";
+      "YAML config (or shipped name) whose sensor the scans must fit, as in `dloam run`; its "
+      "sensor.vertical_angle_correction_deg is applied before estimating (e.g. kitti-raw: 0.22 for KITTI)";
   add_config_options(cmd, args->config, config_help);
   cmd->add_option("--write-sensor", args->write_sensor,
                   "write the estimated sensor model as a YAML sensor section (for --config); fails when "

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/eval/odometry_metrics.hpp"
@@ -101,31 +102,46 @@ void run_odometry(const OdometryArgs& args, bool lengths_given, bool step_given)
     write_plot(args.plot_path, gt, est, r, args.calib.empty() && args.format == "kitti");
 }
 
+/// The .label files of a folder in natural order (any file type: reading one that is not a
+/// regular file names the problem).
 std::vector<std::string> label_files(const std::string& dir) {
-  if (!fs::is_directory(dir)) throw InputError(dir + ": not a folder");
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir + ": not a folder");
   std::vector<std::string> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".label")
-      files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());
+  fs::directory_iterator it(dir, ec);
+  for (; !ec && it != fs::directory_iterator(); it.increment(ec))
+    if (it->path().extension() == ".label") files.push_back(it->path().string());
+  if (ec) throw InputError(dir + ": cannot be listed (" + ec.message() + ")");
+  std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+    return io::natural_less(fs::path(a).filename().string(), fs::path(b).filename().string());
+  });
   if (files.empty()) throw InputError(dir + ": no .label files");
   return files;
 }
 
 void run_mos(const MosArgs& args) {
-  if (!fs::is_directory(args.pred_dir)) throw InputError(args.pred_dir + ": not a folder");
+  std::error_code ec;
+  if (!fs::is_directory(args.pred_dir, ec)) throw InputError(args.pred_dir + ": not a folder");
   eval::MosResult r;
-  for (const std::string& gt_file : label_files(args.gt_dir)) {
+  const std::vector<std::string> gt_files = label_files(args.gt_dir);
+  for (const std::string& gt_file : gt_files) {
     const fs::path pred_file = fs::path(args.pred_dir) / fs::path(gt_file).filename();
-    if (!fs::exists(pred_file)) {
+    if (fs::symlink_status(pred_file, ec).type() == fs::file_type::not_found) {
       throw InputError(
           fmt::format("{}: missing prediction for ground truth {}", pred_file.string(), gt_file));
     }
-    const auto gt = io::read_labels(gt_file, fs::file_size(gt_file) / sizeof(Label));
+    const std::string bytes = io::read_file(gt_file);
+    const auto gt = io::parse_labels(bytes, gt_file, bytes.size() / sizeof(Label));
     const auto pred = io::read_labels(pred_file.string(), gt.size());
     eval::add_scan(r, gt, pred, args.object_threshold);
   }
+  std::size_t unmatched = 0;  // predictions without ground truth are not scored: say so
+  for (const std::string& pred_file : label_files(args.pred_dir))
+    unmatched += fs::symlink_status(fs::path(args.gt_dir) / fs::path(pred_file).filename(), ec).type() ==
+                 fs::file_type::not_found;
+  if (unmatched)
+    fmt::print(stderr, "warning: {} .label files of {} have no ground truth in {} and are not scored\n",
+               unmatched, args.pred_dir, args.gt_dir);
   print_mos(r, args.object_threshold);
   if (!args.json_path.empty()) {
     json doc = {{"gt_dir", args.gt_dir}, {"pred_dir", args.pred_dir}};
@@ -158,7 +174,8 @@ void register_eval(CLI::App& app) {
                 "KITTI calib.txt: evaluate in the LiDAR frame, Tr^-1 P Tr (default: as given)")
       ->check(CLI::ExistingFile);
   auto* lengths = o->add_option("--lengths", odo->lengths, "segment lengths in metres (default 100,...,800)")
-                      ->delimiter(',');
+                      ->delimiter(',')
+                      ->check(positive_number());
   auto* step =
       o->add_option("--step", odo->step, "a segment starts every N frames (default 10; 1 with --lengths)")
           ->check(CLI::Range(1, 1000000));

@@ -1,41 +1,46 @@
-// `dloam run`: the SLAM pipeline over a sequence folder or recording. Writes the output folder of
-// run/run_outputs.hpp (poses KITTI + TUM, the global map, moving points, timing, the full config,
-// labels when a detector is on, metrics), and with --report the HTML report of it. Ctrl-C stops
-// after the current scan and still writes complete outputs for the scans processed.
+// `dloam run`: the SLAM pipeline over a sequence folder. Writes poses (KITTI + TUM), the global
+// static map (PLY), per-scan per-module timing, the full config used, moving labels when a
+// detector is on, and metrics (degenerate scans; errors when the folder has ground truth). SIGINT,
+// SIGTERM and SIGHUP stop after the current scan, and an error in a scan stops the run there: the
+// outputs of the scans processed are written complete either way.
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
-#include <atomic>
-#include <csignal>
+#include <filesystem>
 
+#include "cli_checks.hpp"
 #include "commands.hpp"
 #include "config_args.hpp"
+#include "dloam/eval/mos_metrics.hpp"
+#include "dloam/eval/odometry_metrics.hpp"
+#include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/input_options.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/sensor_estimate.hpp"
 #include "dloam/pipeline/pipeline.hpp"
 #include "dloam/run/detector_setup.hpp"
-#include "dloam/run/run_sequence.hpp"
+#include "dloam/run/metrics.hpp"
 #include "enum_option.hpp"
 #include "html_report.hpp"
 #include "input_args.hpp"
 #include "odometry_table.hpp"
+#include "output_dir.hpp"
 #include "progress.hpp"
+#include "stop_signals.hpp"
 
 namespace dloam::app {
 namespace {
 
 namespace fs = std::filesystem;
-std::atomic<bool> g_stop{false};
 
 struct RunArgs {
-  std::string sequence, out, detector, deskew, platform;
+  std::string sequence, out, detector, deskew, platform, gt_frame = "auto";
   ConfigArgs config;
   InputArgs input;
   std::vector<double> lengths;
   long first = 0, count = -1;
-  bool drop_moving = false, report = false;
+  bool drop_moving = false, overwrite = false, report = false;
 };
 
 /// The preset is the starting point; the file's keys override it (as `dloam config dump`). A
@@ -50,6 +55,83 @@ PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nul
   if (!a.platform.empty()) cfg.motion = motion_preset(a.platform);
   io::validate_config(cfg, c.config_path.empty() ? "built-in config" : c.config_path);
   return cfg;
+}
+
+/// metrics.json as written so far by this run (an empty object before).
+nlohmann::json read_metrics(const std::string& path) {
+  if (!fs::exists(path)) return nlohmann::json::object();
+  return nlohmann::json::parse(io::read_file(path, io::kMaxConfigFileBytes));
+}
+
+/// Ground-truth label statistics of a run (sequence with labels/): Table III's effective-feature
+/// ratio, and the fraction of the points added to the global map (before its voxel downsampling)
+/// that the ground truth labels moving (ghost points).
+struct LabelStats {
+  eval::FeatureCounts features;
+  std::uint64_t map_points = 0, map_moving = 0;
+  void add(const std::vector<Label>& gt, const ScanResult& r) {
+    std::vector<std::size_t> idx = r.edge_features;
+    idx.insert(idx.end(), r.plane_features.begin(), r.plane_features.end());
+    features += eval::count_effective_features(gt, idx);
+    for (std::size_t i : r.map_points) {
+      if (semantic::is_ignored(gt[i])) continue;
+      ++map_points;
+      map_moving += semantic::is_moving(gt[i]);
+    }
+  }
+  void write(const std::string& path) const {
+    nlohmann::json j = read_metrics(path);
+    j["effective_feature_ratio"] = features.ratio();
+    j["features_on_labelled_points"] = features.total;
+    j["map_input_moving_fraction"] = map_points ? static_cast<double>(map_moving) / map_points : 0.0;
+    io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
+    if (features.total == 0 || map_points == 0) {
+      fmt::print("effective features (Table III): {}; moving points sent to the map: {}\n",
+                 features.total ? fmt::format("{:.2f} % of {}", 100.0 * features.ratio(), features.total)
+                                : "none on labelled points",
+                 map_points ? fmt::format("{:.3f} %", 100.0 * map_moving / map_points) : "no point sent");
+      return;
+    }
+    fmt::print("effective features (Table III): {:.2f} % of {}; moving points sent to the map: {:.3f} %\n",
+               100.0 * features.ratio(), features.total, 100.0 * map_moving / map_points);
+  }
+};
+
+/// The scan without the points the ground truth labels moving (--drop-labelled-moving): what a
+/// perfect detector would leave. `kept`: input index of each remaining point.
+PointCloud without_moving(const PointCloud& cloud, const std::vector<Label>& gt,
+                          std::vector<std::size_t>& kept) {
+  PointCloud out;
+  kept.clear();
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (semantic::is_moving(gt[i])) continue;
+    kept.push_back(i);
+    out.xyz.push_back(cloud.xyz[i]);
+    if (cloud.has_intensity()) out.intensity.push_back(cloud.intensity[i]);
+    if (cloud.has_time()) out.time.push_back(cloud.time[i]);
+  }
+  return out;
+}
+
+/// A result of the reduced scan in the input's point indices; the dropped points are moving.
+void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::size_t input_size) {
+  for (auto* idx : {&r.edge_features, &r.plane_features, &r.map_points})
+    for (std::size_t& i : *idx) i = kept[i];
+  if (r.labels.empty()) return;
+  std::vector<Label> labels(input_size, semantic::kMovingGeneric);
+  for (std::size_t j = 0; j < kept.size(); ++j) labels[kept[j]] = r.labels[j];
+  r.labels = std::move(labels);
+}
+
+void write_trajectories(const std::string& dir, const io::Sequence& seq,
+                        const std::vector<ScanResult>& results, const std::vector<Pose>& lidar_poses) {
+  // Same frame convention as the input's poses.txt: camera frame when calib.txt has Tr.
+  const bool camera = seq.calib && seq.calib->has_Tr;
+  const auto poses = camera ? io::lidar_to_camera(lidar_poses, seq.calib->Tr) : lidar_poses;
+  io::write_kitti_poses(dir + "/poses.txt", poses);
+  std::vector<io::StampedPose> tum;
+  for (std::size_t i = 0; i < poses.size(); ++i) tum.push_back({results[i].stamp, poses[i]});
+  io::write_tum_poses(dir + "/poses_tum.txt", tum);
 }
 
 void print_summary(const std::vector<ScanResult>& results) {
@@ -78,6 +160,76 @@ void print_tracking(const std::vector<ScanResult>& results) {
     fmt::print("degenerate scans: {}\n", t["degenerate_scans"].get<std::size_t>());
 }
 
+/// Adds the tracking figures to metrics.json (created when the run has no ground truth).
+void merge_tracking_summary(const std::string& path, const std::vector<ScanResult>& results) {
+  nlohmann::json j = nlohmann::json::object();
+  if (fs::exists(path)) j = nlohmann::json::parse(std::ifstream(path));
+  j["tracking"] = run::tracking_json(results);
+  io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
+}
+
+/// The odometry against the ground truth: printed, and metrics.json started with it.
+void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,
+                            const std::vector<Pose>& est, const std::vector<double>& lengths) {
+  const auto options = run::segment_options(gt, lengths);
+  const auto r = eval::evaluate_odometry(gt, est, options);
+  const std::string frame = "lidar";
+  print_odometry(r, frame);
+  const nlohmann::json doc = {{"odometry", run::odometry_json(r, options, frame)}};
+  io::write_atomic(json_path, [&](std::ostream& o) { o << doc.dump(2) << '\n'; });
+}
+
+/// Scans on which the odometry had nothing to hold on to: the predicted motion was kept there.
+struct DegenerateScans {
+  static constexpr std::size_t kMinFeatures = 10;  ///< per kind (edges, planes), as registration's minimum
+  static constexpr std::size_t kListed = 5;        ///< scans named on the screen; metrics.json lists all
+  std::vector<std::size_t> scans;
+  std::size_t later = 0;  ///< degenerate scans after the first of the run
+  std::size_t without_points = 0, dropped_points = 0, processed = 0;
+
+  /// Points of the cloud the sensor model keeps (within [min_range, max_range], not at the origin).
+  static std::size_t usable_points(const PointCloud& cloud, const SensorConfig& s) {
+    std::size_t n = 0;
+    for (const auto& p : cloud.xyz) {
+      const double r = p.norm();
+      n += r > 0.0 && r >= s.min_range && r <= s.max_range;
+    }
+    return n;
+  }
+  /// Flags `r` (ScanResult::degenerate) when its scan cannot constrain the odometry: no usable
+  /// point, or too few edge or plane features. (The odometry flags more scans itself: those where
+  /// the features leave some direction unconstrained.)
+  void add(ScanResult& r, std::size_t usable, const std::string& name, bool first_scan) {
+    ++processed;
+    const bool few = r.n_edges < kMinFeatures || r.n_planes < kMinFeatures;
+    if (usable == 0) ++without_points;
+    if (usable > 0 && !few) return;
+    r.degenerate = true;
+    scans.push_back(r.index);
+    later += !first_scan;
+    if (scans.size() <= kListed)
+      fmt::print(stderr, "\nwarning: {}: degenerate scan ({}); the predicted motion is kept{}\n", name,
+                 usable == 0 ? "no point between min_range and max_range"
+                             : fmt::format("{} edge and {} plane features", r.n_edges, r.n_planes),
+                 scans.size() == kListed ? " (further degenerate scans are only counted)" : "");
+  }
+  [[nodiscard]] nlohmann::json json() const {
+    return {{"processed", processed},
+            {"degenerate", scans.size()},
+            {"degenerate_scans", scans},
+            {"without_usable_points", without_points},
+            {"dropped_no_return_points", dropped_points}};
+  }
+};
+
+/// The labels of a scan that dropped no-return points, one per point of its file (no return: unlabeled).
+std::vector<Label> file_labels(const std::vector<Label>& labels, const io::ScanInfo& info) {
+  if (info.kept.empty()) return labels;
+  std::vector<Label> out(info.file_points, semantic::kUnlabeled);
+  for (std::size_t j = 0; j < info.kept.size() && j < labels.size(); ++j) out[info.kept[j]] = labels[j];
+  return out;
+}
+
 /// Sensor preset auto: the model estimated from 10 scans spread over the first 100 of the run
 /// (the file's explicit sensor keys still override it).
 PipelineConfig estimate_sensor(const RunArgs& a, const PipelineConfig& cfg, const io::Sequence& seq,
@@ -104,18 +256,17 @@ void take_recording_sensor(PipelineConfig& cfg, const io::Sequence& seq, const R
              cfg.sensor.min_range, cfg.sensor.max_range);
 }
 
-void print_label_stats(const run::LabelStats& s) {
-  fmt::print("effective features (Table III): {:.2f} % of {}; moving points sent to the map: {:.3f} %\n",
-             100.0 * s.features.ratio(), s.features.total, 100.0 * s.map_moving_fraction());
-  if (s.detector) print_mos(s.mos);
-}
-
 void run(const RunArgs& a) {
   PipelineConfig cfg = make_config(a);
   cfg.input = apply_input_args(cfg.input, a.input);
-  const io::Sequence seq = io::open_sequence(a.sequence, io::input_options(cfg.input));
+  io::Sequence seq = io::open_sequence(a.sequence, io::input_options(cfg.input));
+  for (const auto& w : seq.warnings) fmt::print(stderr, "warning: {}\n", w);
   take_recording_sensor(cfg, seq, a);
-  const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
+  if (a.gt_frame == "lidar") seq.calib.reset();  // poses.txt is LiDAR-frame: Tr is not applied
+  if (a.gt_frame == "camera" && seq.has_poses() && !(seq.calib && seq.calib->has_Tr))
+    throw InputError(a.sequence + ": --gt-frame camera needs calib.txt with Tr (velodyne -> camera 0)");
+  if (seq.poses_frame_unknown()) (void)seq.lidar_poses();  // throws the explanation before any output
+  const auto first = static_cast<std::size_t>(a.first);
   if (first >= seq.size())
     throw InputError(
         fmt::format("{}: --first {} but the sequence has {} scans", a.sequence, first, seq.size()));
@@ -128,46 +279,158 @@ void run(const RunArgs& a) {
   const std::shared_ptr<MovingSegmenter> cnn = run::prepare_detector(cfg, &note);
   if (!note.empty()) fmt::print(stderr, "{}\n", note);
 
+  // The sensor model must fit the data: judged on the first scan with enough points in range,
+  // before the output folder is touched (a wrong --preset leaves nothing to clean up).
+  bool fit_checked = false;
+  for (std::size_t i = first; i < last && i < first + 10 && !fit_checked; ++i) {
+    PointCloud cloud;
+    try {
+      cloud = seq.read_scan(i);
+    } catch (const InputError&) {
+      break;  // the run reports it at this scan, with the outputs of the scans before it
+    }
+    const io::SensorFit fit = io::sensor_fit(cloud, cfg.sensor);
+    const std::string problem = io::sensor_fit_problem(fit, cfg.sensor, seq.scan_files[i]);
+    if (!problem.empty()) throw InputError(problem);
+    fit_checked = fit.in_range >= io::kMinFitPoints;
+  }
+
+  const OutputDir out(a.out, a.sequence, a.overwrite);
+  io::write_atomic(a.out + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(cfg); });
+  const bool labels_on = cfg.detection.detector != Detector::kNone;
+
   fmt::print("dloam run: {} scans of {} ({} preset, detector {}, de-skew {}) -> {}\n", last - first,
              a.sequence, cfg.sensor.preset, name_of(cfg.detection.detector),
              cfg.deskew.enabled ? "on" : "off", a.out);
-  run::RunOptions options;
-  options.out = a.out;
-  options.first = first;
-  options.count = last - first;
-  options.drop_labelled_moving = a.drop_moving;
-  options.lengths = a.lengths;
+  std::fflush(stdout);
+  Pipeline pipeline(cfg, cnn);
+  std::vector<ScanResult> results;
+  std::vector<Pose> poses;
   Progress progress("run", last - first);
-  options.on_scan = [&](std::size_t done, std::size_t, const ScanResult& r) {
-    progress.update(done, fmt::format("{:.0f} ms/scan", r.times[Module::kTotal]));
-  };
-  g_stop = false;
-  options.stop = &g_stop;
-  auto previous_handler = std::signal(SIGINT, [](int) { g_stop = true; });
-  run::SequenceRun result;
-  try {
-    result = run::run_sequence(seq, cfg, cnn, options);
-  } catch (...) {
-    std::signal(SIGINT, previous_handler);
-    throw;
+  LabelStats label_stats;
+  DegenerateScans degenerate;
+  std::string failure;  // the error that stopped the run, if one did
+  const StopSignals stop;
+  for (std::size_t i = first; i < last && !stop.received(); ++i) {
+    try {
+      io::ScanInfo info;
+      const PointCloud cloud = seq.read_scan(i, &info);
+      if (!fit_checked) {  // on the first scan with enough points to judge by
+        const io::SensorFit fit = io::sensor_fit(cloud, cfg.sensor);
+        const std::string problem = io::sensor_fit_problem(fit, cfg.sensor, seq.scan_files[i]);
+        if (!problem.empty()) throw InputError(problem);
+        fit_checked = fit.in_range >= io::kMinFitPoints;
+      }
+      const std::vector<Label> gt =
+          seq.has_labels() ? seq.read_scan_labels(i, cloud.size(), &info) : std::vector<Label>{};
+      std::vector<std::size_t> kept;
+      ScanResult r = pipeline.process(a.drop_moving ? without_moving(cloud, gt, kept) : cloud);
+      if (a.drop_moving) restore_indices(r, kept, cloud.size());
+      r.index = i;
+      if (seq.has_labels()) label_stats.add(gt, r);
+      if (labels_on)
+        io::write_labels(fmt::format("{}/labels/{}.label", a.out, seq.output_name(i)),
+                         file_labels(r.labels, info));
+      poses.push_back(r.pose);
+      r.labels = {};  // keep only what timing.csv needs
+      r.n_edges = r.edge_features.size();
+      r.n_planes = r.plane_features.size();
+      r.edge_features = {};
+      r.plane_features = {};
+      r.map_points = {};
+      degenerate.dropped_points += info.dropped();
+      degenerate.add(r, DegenerateScans::usable_points(cloud, cfg.sensor), seq.scan_files[i], i == first);
+      results.push_back(std::move(r));
+    } catch (const std::exception& e) {
+      failure = e.what();
+      break;
+    }
+    if (results.size() % 50 == 0)
+      write_trajectories(a.out, seq, results, poses);  // an interrupted run keeps its poses
+    progress.update(results.size(), fmt::format("{:.0f} ms/scan", results.back().times[Module::kTotal]));
   }
-  std::signal(SIGINT, previous_handler);
-  const run::RunSummary& summary = result.summary;
-  if (result.stopped)
-    fmt::print(stderr, "\ninterrupted: wrote the outputs of the {} scans processed\n", summary.scans);
-  print_summary(summary.results);
-  print_tracking(summary.results);
-  fmt::print("loop closures: {}\n", summary.loop_closures);
+  if (stop.received())
+    fmt::print(stderr, "\n{}: stopping; writing the outputs of the {} scans processed\n",
+               StopSignals::name(stop.received()), results.size());
+  if (!failure.empty() && results.empty()) {  // nothing to keep: the folder is left as it was found
+    std::error_code ec;
+    fs::remove(a.out + "/config.yaml", ec);
+    throw InputError(failure);
+  }
+  if (!failure.empty())
+    fmt::print(stderr, "\nerror: {}\nwriting the outputs of the {} scans before it\n", failure,
+               results.size());
+
+  // Mapping-refined trajectory (loop closures move earlier scans too); after a failure inside the
+  // pipeline, the real-time poses when the refined ones cannot be had.
+  try {
+    std::vector<Pose> refined = pipeline.trajectory();
+    if (refined.size() >= poses.size())
+      poses.assign(refined.begin(), refined.begin() + static_cast<long>(poses.size()));
+  } catch (const std::exception& e) {
+    if (failure.empty()) failure = e.what();
+    fmt::print(stderr, "the mapping-refined poses are unavailable ({}): writing the real-time poses\n",
+               e.what());
+  }
+  write_trajectories(a.out, seq, results, poses);
+  io::write_timing_csv(a.out + "/timing.csv", results);
+  PointCloud map;
+  try {
+    map.xyz = pipeline.global_map();
+  } catch (const std::exception& e) {
+    if (failure.empty()) failure = e.what();
+    fmt::print(stderr, "the global map is unavailable ({}): map.ply is empty\n", e.what());
+  }
+  io::write_ply(a.out + "/map.ply", map);
+  print_summary(results);
+  std::size_t loops = 0;
+  try {
+    loops = pipeline.loop_closures();
+  } catch (const std::exception&) {  // the failure is reported above
+  }
+  print_tracking(results);
+  fmt::print("loop closures: {}\n", loops);
   if (seq.source) fmt::print("input: {}\n", seq.source->describe());
+  if (degenerate.dropped_points)
+    fmt::print("no-return (NaN) points dropped by the reader: {}\n", degenerate.dropped_points);
   fmt::print(
-      "wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), moving.ply, timing.csv, config.yaml{}{}\n",
-      a.out, summary.map_points, cfg.detection.detector != Detector::kNone ? ", labels/" : "",
-      summary.odometry ? ", poses_gt.txt" : "");
-  if (summary.odometry) print_odometry(*summary.odometry, "lidar");
-  if (summary.labels) print_label_stats(*summary.labels);
-  fmt::print("wrote {}/metrics.json\n", a.out);
+      "degenerate scans: {} of {} ({} without a point in range){}\n", degenerate.scans.size(), results.size(),
+      degenerate.without_points,
+      degenerate.scans.empty() ? "" : ": the predicted motion was kept there (metrics.json lists them)");
+  fmt::print(
+      "wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), timing.csv, config.yaml, metrics.json{}\n",
+      a.out, map.size(), labels_on ? ", labels/" : "");
+
+  if (seq.has_poses() && !poses.empty()) {
+    const auto gt_all = seq.lidar_poses();
+    const std::vector<Pose> gt(gt_all.begin() + static_cast<long>(first),
+                               gt_all.begin() + static_cast<long>(first + poses.size()));
+    write_odometry_metrics(a.out + "/metrics.json", gt, poses, a.lengths);
+  }
+  if (seq.has_labels() && !results.empty()) label_stats.write(a.out + "/metrics.json");
+  merge_tracking_summary(a.out + "/metrics.json", results);
+  nlohmann::json metrics = read_metrics(a.out + "/metrics.json");
+  metrics["scans"] = degenerate.json();
+  io::write_atomic(a.out + "/metrics.json", [&](std::ostream& o) { o << metrics.dump(2) << '\n'; });
+
+  if (!failure.empty())
+    throw InputError(
+        fmt::format("{} (the outputs of the {} scans before it are in {})", failure, results.size(), a.out));
+  if (!results.empty() && degenerate.without_points == results.size())
+    throw InputError(fmt::format(
+        "{}: none of the {} scans has a point between min_range {} m and max_range {} m of the sensor model: "
+        "no usable input (wrong unit, empty scans, or sensor.min_range / max_range?)",
+        a.sequence, results.size(), cfg.sensor.min_range, cfg.sensor.max_range));
+  if (results.size() > 1 && degenerate.later + 1 == results.size())
+    throw InputError(
+        fmt::format("{}: every scan after the first is degenerate (too few features to register): "
+                    "the poses are only the predicted motion",
+                    a.sequence));
   if (a.report) write_html_report(a.out, a.out + "/report.html");
-  if (result.stopped) throw InputError("interrupted by the user (outputs written)");
+  if (stop.received()) {
+    std::fflush(stdout);
+    throw CLI::RuntimeError(128 + stop.received());  // as a shell reports a process ended by the signal
+  }
 }
 
 }  // namespace
@@ -183,10 +446,12 @@ void register_run(CLI::App& app) {
       "section sets one.\n"
       "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
       "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
-      "moving.ply, poses_gt.txt and calib.txt (when the folder has them), metrics.json.\n"
+      "metrics.json (degenerate scans; errors against poses.txt and labels/ when the folder has them).\n"
+      "A folder with the outputs of an earlier run is refused unless --overwrite; two runs cannot write\n"
+      "into one folder at once. SIGINT, SIGTERM and SIGHUP stop after the current scan with complete files.\n"
       "Examples:\n"
       "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config kitti-raw --report\n"
-      "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none\n"
+      "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none --overwrite\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
       "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16\n"
       "  dloam run my_pcds --out out/mine --preset auto      # sensor model estimated from the first scans\n"
@@ -199,6 +464,7 @@ void register_run(CLI::App& app) {
       ->check(CLI::ExistingPath);
   add_input_options(cmd, args->input);
   cmd->add_option("--out,-o", args->out, "output folder")->required();
+  cmd->add_flag("--overwrite", args->overwrite, "delete the outputs of an earlier run in --out first");
   ConfigHelp config_help;
   config_help.preset_auto = true;
   add_config_options(cmd, args->config, config_help);
@@ -210,6 +476,11 @@ void register_run(CLI::App& app) {
       "detector's reference for studies (use with --detector none); written labels mark them moving");
   cmd->add_option("--deskew", args->deskew, "override the config's de-skew switch")
       ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--gt-frame", args->gt_frame,
+                  "frame of the folder's poses.txt: auto (camera when calib.txt has Tr, LiDAR without "
+                  "calib.txt; a calib.txt without Tr is an error), lidar, camera")
+      ->check(CLI::IsMember({"auto", "lidar", "camera"}))
+      ->capture_default_str();
   cmd->add_option(
          "--platform", args->platform,
          "motion limits of the platform (the config's motion section): car (default), handheld, legged")
@@ -217,9 +488,10 @@ void register_run(CLI::App& app) {
   cmd->add_option("--lengths", args->lengths,
                   "segment lengths (m) for metrics.json; default: devkit 100..800, "
                   "or 5,10,20,30 with every frame as a start on drives under 200 m")
-      ->delimiter(',');
-  cmd->add_option("--first", args->first, "first scan index");
-  cmd->add_option("--count", args->count, "number of scans (default: all)");
+      ->delimiter(',')
+      ->check(positive_number());
+  cmd->add_option("--first", args->first, "first scan index")->check(integer_at_least(0));
+  cmd->add_option("--count", args->count, "number of scans (default: all)")->check(integer_at_least(1));
   cmd->add_flag("--report", args->report, "also write report.html (as `dloam report OUT`)");
   cmd->callback([args] { run(*args); });
 }

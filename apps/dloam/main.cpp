@@ -1,8 +1,11 @@
 // dloam: LiDAR SLAM in dynamic urban environments (DLOAM). Command-line front-end.
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <exception>
-#include <iostream>
 
 #include "commands.hpp"
 #ifdef DLOAM_WITH_ROS
@@ -37,14 +40,25 @@ int main(int argc, char** argv) {
 #ifdef DLOAM_WITH_ROS
   dloam::ros1::register_bag_format();  // sequences may be rosbags
 #endif
+  spdlog::set_default_logger(
+      spdlog::stderr_color_mt("dloam"));  // errors beside the progress, not in the results
+  int status = 0;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    status = app.exit(e);
   } catch (const std::exception& e) {
     // Subcommand callbacks run inside parse(); bad input surfaces here with its file name.
     spdlog::error("{}", e.what());
+    status = 1;
+  }
+  // Results go to stdout: a full disk or a closed pipe there must not look like success.
+  errno = 0;
+  if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    if (status != 0) return status;  // already reported
+    std::fprintf(stderr, "dloam: error writing to standard output: %s\n",
+                 errno ? std::strerror(errno) : "I/O error");
     return 1;
   }
-  return 0;
+  return status;
 }

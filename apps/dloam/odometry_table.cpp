@@ -19,6 +19,9 @@ void print_odometry(const eval::OdometryResult& r, const std::string& frame) {
   fmt::print(
       "  RPE per frame: translation RMSE {:.4f} m (mean {:.4f}), rotation RMSE {:.4f} deg (mean {:.4f})\n",
       r.rpe.trans_m.rmse, r.rpe.trans_m.mean, r.rpe.rot_deg.rmse, r.rpe.rot_deg.mean);
+  if (r.rpe.steps > 0)
+    fmt::print("  steps within {:g} cm and {:g} deg: {} of {} ({:.1f} %)\n", eval::kTrackedStepM * 100,
+               eval::kTrackedStepDeg, r.rpe.tracked, r.rpe.steps, 100.0 * r.rpe.tracked / r.rpe.steps);
 }
 
 void print_mos(const eval::MosResult& r, double object_threshold) {

@@ -8,7 +8,21 @@
 
 namespace dloam {
 
-Pose ScanInterval::sweep_motion(const Pose& step) const {
+SweepMotion ScanInterval::sweep_motion(const Pose& step) const {
+  if (previous_dt > 0.0) {
+    const Vec6 v = log_se3(step) / dt;
+    // v is the mean velocity between the middles of the two sweeps; the one before was measured
+    // (dt + previous_dt) / 2 earlier, and this sweep's reference time is dt / 2 later.
+    Vec6 a = (v - previous_velocity) / (0.5 * (dt + previous_dt));
+    const double angular = a.head<3>().norm(), linear = a.tail<3>().norm();
+    if (angular > max_angular_acceleration) a.head<3>() *= max_angular_acceleration / angular;
+    if (linear > max_acceleration) a.tail<3>() *= max_acceleration / linear;
+    // The velocity at the reference time, reached from the previous one at that (bounded) rate.
+    SweepMotion m;
+    m.xi = sweep * (previous_velocity + (0.5 * (dt + previous_dt) + 0.5 * dt) * a);
+    m.acceleration = sweep * sweep * a;
+    return m;
+  }
   const double s = sweep / dt;
   return std::abs(s - 1.0) < 1e-9 ? step : scale_motion(step, s);
 }
@@ -26,13 +40,10 @@ std::vector<double> point_times(const PointCloud& cloud, bool use_channel) {
 }
 
 std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
-                         const Pose& motion, double reference_time, int bins) {
-  const Vec6 xi = log_se3(motion);
+                         const SweepMotion& motion, double reference_time, int bins) {
   std::vector<Pose> table(static_cast<std::size_t>(bins));
-  for (int b = 0; b < bins; ++b) {
-    const double t = (b + 0.5) / bins;
-    table[static_cast<std::size_t>(b)] = exp_se3((t - reference_time) * xi);
-  }
+  for (int b = 0; b < bins; ++b)
+    table[static_cast<std::size_t>(b)] = motion.at((b + 0.5) / bins - reference_time);
   std::vector<Vec3> out(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int b = std::clamp(static_cast<int>(times[i] * bins), 0, bins - 1);
@@ -42,13 +53,12 @@ std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<doub
 }
 
 std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
-                         const std::vector<int>& indices, const Pose& motion, double reference_time) {
-  const Vec6 xi = log_se3(motion);
+                         const std::vector<int>& indices, const SweepMotion& motion, double reference_time) {
   std::vector<Vec3> out;
   out.reserve(indices.size());
   for (int i : indices) {
     const auto k = static_cast<std::size_t>(i);
-    out.push_back(exp_se3((times[k] - reference_time) * xi) * points[k]);
+    out.push_back(motion.at(times[k] - reference_time) * points[k]);
   }
   return out;
 }

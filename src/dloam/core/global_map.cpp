@@ -9,21 +9,30 @@
 namespace dloam {
 
 namespace {
-constexpr std::int64_t kHalfRange = std::int64_t{1} << 20;  // voxels per axis each side of 0
+constexpr double kKeyRange = 2.0e9;  // voxels per axis each side of 0 (32-bit keys)
 
-std::uint64_t axis_key(double x, double leaf) {
+std::int32_t axis_key(double x, double leaf) {
   const double v = std::floor(x / leaf);
-  if (!(std::abs(v) < static_cast<double>(kHalfRange)))
-    throw InputError("global map: point at " + std::to_string(x) + " m is outside the map's range");
-  return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) + kHalfRange);
+  if (!(std::abs(v) < kKeyRange))
+    throw InputError("global map: point at " + std::to_string(x) + " m is outside the map's range (" +
+                     std::to_string(kKeyRange * leaf / 1000.0) + " km at map_leaf_size " +
+                     std::to_string(leaf) + " m)");
+  return static_cast<std::int32_t>(v);
 }
 }  // namespace
 
+std::size_t GlobalMap::KeyHash::operator()(const Key& k) const {
+  const std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(k[0])) * 73856093ULL ^
+                          static_cast<std::uint64_t>(static_cast<std::uint32_t>(k[1])) * 19349669ULL ^
+                          static_cast<std::uint64_t>(static_cast<std::uint32_t>(k[2])) * 83492791ULL;
+  return static_cast<std::size_t>((h ^ (h >> 29)) * 0x9E3779B97F4A7C15ULL);
+}
+
 bool GlobalMap::occupy(const Vec3& world) {
   if (leaf_ <= 0.0) return true;
-  const std::uint64_t key =
-      axis_key(world.x(), leaf_) << 42 | axis_key(world.y(), leaf_) << 21 | axis_key(world.z(), leaf_);
-  return occupied_.insert(key).second;
+  return occupied_
+      .insert(Key{axis_key(world.x(), leaf_), axis_key(world.y(), leaf_), axis_key(world.z(), leaf_)})
+      .second;
 }
 
 void GlobalMap::add(std::size_t keyframe, const std::vector<Vec3>& points, const Pose& pose) {

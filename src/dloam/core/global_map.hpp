@@ -5,6 +5,7 @@
 // not with the length of the drive.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <unordered_set>
 #include <vector>
@@ -18,8 +19,9 @@ class GlobalMap {
   explicit GlobalMap(double leaf) : leaf_(leaf) {}
 
   /// Adds the points (sensor frame) of keyframe `keyframe` at world pose `pose`; points falling
-  /// in an occupied voxel are dropped. Keyframes are added in increasing order, each at most once.
-  /// Throws InputError on a point more than ~200 km (at 0.2 m voxels) from the origin.
+  /// in an occupied voxel are dropped. Keyframes are added in increasing order (a keyframe's points
+  /// may come in several calls).
+  /// Throws InputError on a point more than 2e9 voxels (400,000 km at 0.2 m) from the origin.
   void add(std::size_t keyframe, const std::vector<Vec3>& points, const Pose& pose);
   /// The keyframes moved (loop closure): the occupancy is rebuilt at their new poses.
   void move(const std::vector<Pose>& keyframe_poses);
@@ -32,9 +34,13 @@ class GlobalMap {
   /// Marks the voxel of a world point occupied; false when it already was.
   bool occupy(const Vec3& world);
 
+  using Key = std::array<std::int32_t, 3>;  ///< voxel indices
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const;
+  };
   double leaf_;
   std::vector<std::vector<Eigen::Vector3f>> local_;  ///< per keyframe, sensor frame
-  std::unordered_set<std::uint64_t> occupied_;
+  std::unordered_set<Key, KeyHash> occupied_;
 };
 
 }  // namespace dloam

@@ -101,6 +101,16 @@ void Mapper::add_to_global_map(const std::vector<Vec3>& points) {
   global_.add(local_.keyframes().size() - 1, points, local_.keyframes().back().pose);
 }
 
+void Mapper::add_to_global_map(const std::vector<Vec3>& points, const Pose& pose) {
+  if (local_.empty()) return;
+  const Pose& keyframe = local_.keyframes().back().pose;
+  const Pose to_keyframe = keyframe.inverse() * pose;
+  std::vector<Vec3> in_keyframe;
+  in_keyframe.reserve(points.size());
+  for (const Vec3& p : points) in_keyframe.push_back(to_keyframe * p);
+  global_.add(local_.keyframes().size() - 1, in_keyframe, keyframe);
+}
+
 std::vector<Vec3> Mapper::global_map() const {
   std::vector<Pose> poses;
   poses.reserve(local_.keyframes().size());

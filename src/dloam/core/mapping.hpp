@@ -64,6 +64,9 @@ class Mapper {
 
   /// Adds static points (sensor frame) of the newest keyframe's scan to the global map.
   void add_to_global_map(const std::vector<Vec3>& points);
+  /// Adds static points of a later scan at world pose `pose` (sensor frame) to the newest
+  /// keyframe's share of the global map: they move with that keyframe.
+  void add_to_global_map(const std::vector<Vec3>& points, const Pose& pose);
   /// The global map with every keyframe at its current (loop-corrected) pose, one point per voxel.
   [[nodiscard]] std::vector<Vec3> global_map() const;
   /// Keyframes with their current (loop-corrected) poses.

@@ -65,6 +65,8 @@ class MotionModel {
   [[nodiscard]] bool known() const { return known_; }
   /// The velocity [wx, wy, wz, vx, vy, vz] (rad/s, m/s) in the sensor frame.
   [[nodiscard]] const Vec6& twist() const { return twist_; }
+  /// The time (s) over which twist() was measured (0 before the first step).
+  [[nodiscard]] double twist_dt() const { return known_ ? dt_last_ : 0.0; }
   [[nodiscard]] const MotionConfig& config() const { return config_; }
 
  private:

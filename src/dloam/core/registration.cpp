@@ -170,7 +170,11 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     }
     const int matches = res.edge_matches + res.plane_matches;
     res.mean_residual = matches > 0 ? sum_r / matches : 0.0;
-    if (matches < 10 || nf == 0) break;  // nf == 0: only the residuals at `initial` were asked for
+    if (matches < 10) {  // too few correspondences to constrain the pose: the guess stands
+      res.degenerate = true;
+      break;
+    }
+    if (nf == 0) break;  // only the residuals at `initial` were asked for
 
     Eigen::MatrixXd Hs(nf, nf);
     Eigen::VectorXd gs(nf);

@@ -61,7 +61,7 @@ struct RegistrationResult {
   int edge_matches = 0;
   int plane_matches = 0;
   double mean_residual = 0.0;  ///< m, over matched features at the last iteration
-  bool degenerate = false;
+  bool degenerate = false;     ///< a direction the geometry does not constrain, or fewer than 10 matches
   /// Per-feature absolute residual of the last iteration (-1 when unmatched), edges then planes.
   std::vector<double> residuals;
 };

@@ -208,11 +208,12 @@ int OusterMetadata::crc_expected() const {
   return firmware_major >= 3 ? 1 : 0;
 }
 
-OusterMetadata parse_ouster_metadata(const std::string& text, const std::string& source) {
+namespace {
+OusterMetadata parse_metadata(const std::string& text, const std::string& source) {
   json root;
   try {
     root = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // syntax errors, and numbers out of range (406)
     throw InputError(source + ": not valid JSON: " + e.what());
   }
   if (!root.is_object()) throw InputError(source + ": expected a JSON object at the top level");
@@ -472,6 +473,15 @@ OusterMetadata parse_ouster_metadata(const std::string& text, const std::string&
     if (std::abs(md.lidar_to_sensor(i, 3)) > 10000.0 || std::abs(md.beam_to_lidar(i, 3)) > 1000.0)
       rd.fail(nm(L.l2s, "lidar_to_sensor_transform"), "translation out of range (mm)");
   return md;
+}
+}  // namespace
+
+OusterMetadata parse_ouster_metadata(const std::string& text, const std::string& source) {
+  try {
+    return parse_metadata(text, source);
+  } catch (const json::exception& e) {  // a value of a type the reader did not expect
+    throw InputError(source + ": " + e.what());
+  }
 }
 
 OusterMetadata load_ouster_metadata(const std::string& path) {

@@ -74,12 +74,14 @@ ErrorStats ate_aligned(const std::vector<Pose>& gt, const std::vector<Pose>& est
 Rpe rpe(const std::vector<Pose>& gt, const std::vector<Pose>& est) {
   check_sizes(gt, est, "RPE");
   std::vector<double> trans, rot;
+  std::size_t tracked = 0;
   for (std::size_t i = 0; i + 1 < gt.size(); ++i) {
     const Pose error = between(between(gt[i], gt[i + 1]), between(est[i], est[i + 1]));
     trans.push_back(error.translation().norm());
     rot.push_back(rotation_angle(error) * 180.0 / M_PI);
+    tracked += trans.back() < kTrackedStepM && rot.back() < kTrackedStepDeg;
   }
-  return {error_stats(trans), error_stats(rot)};
+  return {error_stats(trans), error_stats(rot), trans.size(), tracked};
 }
 
 }  // namespace dloam::eval

@@ -31,9 +31,15 @@ Pose align_positions(const std::vector<Pose>& gt, const std::vector<Pose>& est);
 /// ATE after applying align_positions(gt, est) to the estimate [m].
 ErrorStats ate_aligned(const std::vector<Pose>& gt, const std::vector<Pose>& est);
 
+/// A frame-to-frame step is tracked when its error is within these bounds.
+constexpr double kTrackedStepM = 0.05;
+constexpr double kTrackedStepDeg = 1.0;
+
 struct Rpe {
   ErrorStats trans_m;
   ErrorStats rot_deg;
+  std::size_t steps = 0;    ///< frame-to-frame steps
+  std::size_t tracked = 0;  ///< steps within kTrackedStepM and kTrackedStepDeg
 };
 
 /// Per-frame RPE between consecutive frames (frames - 1 pairs).

@@ -1,9 +1,12 @@
-// Atomic file writing (temp file + std::filesystem::rename) and whole-file reading.
+// Atomic file writing (temp file + std::filesystem::rename) and bounded whole-file reading.
 #include "dloam/io/atomic_file.hpp"
 
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <system_error>
 
 #include "dloam/core/types.hpp"
@@ -11,6 +14,21 @@
 namespace dloam::io {
 
 namespace fs = std::filesystem;
+
+namespace {
+std::string mebibytes(std::uintmax_t bytes) {
+  const std::uintmax_t mib = bytes >> 20;
+  return mib > 0 ? std::to_string(mib) + " MiB" : std::to_string(bytes) + " bytes";
+}
+
+const char* kind_of(mode_t mode) {
+  if (S_ISDIR(mode)) return "is a folder, expected a file";
+  if (S_ISFIFO(mode)) return "is a FIFO (named pipe), expected a regular file";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return "is a device, expected a regular file";
+  if (S_ISSOCK(mode)) return "is a socket, expected a regular file";
+  return "is not a regular file";
+}
+}  // namespace
 
 void write_atomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const fs::path target(path);
@@ -32,16 +50,29 @@ void write_atomic(const std::string& path, const std::function<void(std::ostream
   }
 }
 
-std::string read_file(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path + ": file not found");
-  if (fs::is_directory(path, ec)) throw InputError(path + ": is a folder, expected a file");
+std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
+  // stat() before open(): opening a FIFO for reading blocks until a writer appears.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int err = errno;
+    if (err == ENOENT) throw InputError(path + ": file not found");
+    throw InputError(path + ": cannot be read (" + std::strerror(err) + ")");
+  }
+  if (!S_ISREG(st.st_mode)) throw InputError(path + ": " + kind_of(st.st_mode));
+  const auto size = static_cast<std::uintmax_t>(st.st_size);
+  if (size > max_bytes)
+    throw InputError(path + ": is " + mebibytes(size) + ", larger than any sane file of its kind (limit " +
+                     mebibytes(max_bytes) + ")");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open for reading");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read error");
-  return std::move(buffer).str();
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (static_cast<std::uintmax_t>(in.gcount()) != size)
+    throw InputError(path + ": read " + std::to_string(in.gcount()) + " of " + std::to_string(size) +
+                     " bytes (the file shrank while it was read, or an I/O error)");
+  if (in.peek() != std::char_traits<char>::eof())
+    throw InputError(path + ": the file grew while it was read");
+  return bytes;
 }
 
 }  // namespace dloam::io

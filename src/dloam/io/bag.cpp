@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "dloam/core/types.hpp"
+#include "dloam/io/atomic_file.hpp"
 #include "dloam/io/compression.hpp"
 #include "dloam/io/text_util.hpp"
 
@@ -67,7 +68,7 @@ struct Metadata {
 Metadata read_metadata(const std::string& yaml_path) {
   Metadata m;
   try {
-    const YAML::Node root = YAML::LoadFile(yaml_path);
+    const YAML::Node root = YAML::Load(read_file(yaml_path, kMaxConfigFileBytes));
     const YAML::Node info = root["rosbag2_bagfile_information"];
     if (!info || !info.IsMap())
       fail(yaml_path, "no rosbag2_bagfile_information map: not a rosbag2 metadata file");

@@ -26,6 +26,10 @@ inline Range within(double lo, double hi) { return {lo, hi, false, false}; }
 using Choices = std::vector<std::string>;
 /// An enumeration field: written and read by the names of its table (core/enum_names.hpp).
 struct Named {};
+/// Smallest voxel size (m) of any downsampling: the voxel keys are 32-bit integers per axis.
+inline constexpr double kMinLeafSize = 0.001;
+/// Farthest range (m) a sensor model may keep: no LiDAR measures beyond it.
+inline constexpr double kMaxSensorRange = 10000.0;
 
 template <class V>
 void visit(InputConfig& c, V& v) {
@@ -55,8 +59,10 @@ void visit(SensorConfig& c, V& v) {
     "height of each beam's origin (m), bottom beam first; [] = all 0", within(-1, 1));
   v("Pit_bottom", c.Pit_bottom, "lowest beam pitch (deg), Pit_bottom of eq. 4", within(-90, 90));
   v("fov_top", c.fov_top, "highest beam pitch (deg); R_vert = span / (N_scan - 1)", within(-90, 90));
-  v("min_range", c.min_range, "points closer than this (m) are dropped (ego vehicle)", at_least(0));
-  v("max_range", c.max_range, "points farther than this (m) are dropped", above(0));
+  v("min_range", c.min_range, "points closer than this (m) are dropped (ego vehicle)",
+    within(0, kMaxSensorRange));
+  v("max_range", c.max_range, "points farther than this (m) are dropped",
+    Range{0, kMaxSensorRange, true, false});
   v("scan_rate_hz", c.scan_rate_hz, "sweeps per second", above(0));
   v("vertical_angle_correction_deg", c.vertical_angle_correction_deg,
     "added to point elevations (deg); KITTI HDL-64E: 0.2-0.25", within(-5, 5));
@@ -112,6 +118,8 @@ template <class V>
 void visit(DeskewConfig& c, V& v) {
   v("enabled", c.enabled, "de-skew by interpolating T_coarse over the sweep (eq. 12)", Range{});
   v("time_source", c.time_source, "t_i: auto (data's time, else azimuth) | azimuth | none", Named{});
+  v("acceleration", c.acceleration,
+    "extrapolate the step's velocity to the sweep's reference time with the last velocity change", Range{});
 }
 
 template <class V>

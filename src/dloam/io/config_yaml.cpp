@@ -142,8 +142,12 @@ struct Loader {
   }
 
   void reject_unknown_keys() const {
+    std::set<std::string> seen;
     for (const auto& kv : node) {
-      const std::string key = kv.first.as<std::string>();
+      if (!kv.first.IsScalar()) fail(kv.first, prefix + "?", "a key must be a plain name");
+      const std::string key = kv.first.Scalar();
+      if (!seen.insert(key).second)
+        fail(kv.first, prefix + key, "given twice in the same map (YAML keys must be unique)");
       if (known.count(key)) continue;
       std::string list;
       for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
@@ -151,6 +155,46 @@ struct Loader {
     }
   }
 };
+
+/// The documents of a YAML text, counted from its markers as the YAML spec places them (column 0,
+/// then a blank or the end of the line): content before the first "---" is a document, every
+/// "---" starts one, content after "..." starts one. (yaml-cpp 0.7's LoadAll() never returns on
+/// some inputs, e.g. ",": it is not used.)
+struct Documents {
+  std::size_t count = 0, second_line = 0;  ///< 1-based line where the second document starts
+  bool content = false;                    ///< any line that is not blank, a comment or a marker
+};
+Documents count_documents(const std::string& text) {
+  auto marker = [](std::string_view line, std::string_view m) {
+    return line.substr(0, 3) == m &&
+           (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '\r');
+  };
+  Documents d;
+  bool open = false;
+  std::size_t start = 0, line_no = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string_view line(text.data() + start, end - start);
+    ++line_no;
+    start = end + 1;
+    const bool begins = marker(line, "---");
+    const auto first = line.find_first_not_of(" \t\r");
+    const bool blank = first == std::string_view::npos || line[first] == '#';
+    if (marker(line, "...")) {
+      open = false;
+    } else if (begins || (!blank && !open && line[0] != '%')) {
+      open = true;
+      if (++d.count == 2) d.second_line = line_no;
+    }
+    if (!begins && !blank && !marker(line, "...") && line[0] != '%') d.content = true;
+    if (begins && line.find_first_not_of(" \t\r", 3) != std::string_view::npos &&
+        line[line.find_first_not_of(" \t\r", 3)] != '#')
+      d.content = true;  // "--- {a: 1}"
+    if (end == text.size()) break;
+  }
+  return d;
+}
 
 /// Checks every field against its Range / Choices.
 struct Validator {
@@ -207,13 +251,21 @@ PipelineConfig default_config_with(const std::string& preset, const SensorConfig
 
 PipelineConfig load_with(const std::string& yaml, const std::string& source, const PipelineConfig& base,
                          const SensorConfig* estimated) {
+  const Documents documents = count_documents(yaml);
+  if (documents.count > 1)
+    throw InputError(source + ":" + std::to_string(documents.second_line) +
+                     ": a second YAML document (after --- or ...); a config is one document");
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
     throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": YAML error: " + e.what());
   }
   PipelineConfig config = base;
+  if ((!root || root.IsNull()) && documents.content)
+    throw InputError(source + ": is not a YAML map of sections (sensor, mapping, ...)");
   if (root && !root.IsNull()) {
     if (!root.IsMap()) throw InputError(source + ": expected a YAML map of sections (sensor, mapping, ...)");
     Loader loader{root, source, "", {}, estimated};
@@ -227,7 +279,8 @@ PipelineConfig load_with(const std::string& yaml, const std::string& source, con
 PipelineConfig config_with(const std::string& preset, const std::string& yaml_path,
                            const SensorConfig* estimated) {
   const PipelineConfig base = default_config_with(preset, estimated);
-  return yaml_path.empty() ? base : load_with(read_file(yaml_path), yaml_path, base, estimated);
+  return yaml_path.empty() ? base
+                           : load_with(read_file(yaml_path, kMaxConfigFileBytes), yaml_path, base, estimated);
 }
 }  // namespace
 
@@ -243,7 +296,7 @@ PipelineConfig config_from_yaml_string(const std::string& yaml, const std::strin
 PipelineConfig load_config(const std::string& yaml_path) { return load_config(yaml_path, default_config()); }
 
 PipelineConfig load_config(const std::string& yaml_path, const PipelineConfig& base) {
-  return config_from_yaml_string(read_file(yaml_path), yaml_path, base);
+  return config_from_yaml_string(read_file(yaml_path, kMaxConfigFileBytes), yaml_path, base);
 }
 
 PipelineConfig config_from_allowing_auto(const std::string& preset, const std::string& yaml_path) {
@@ -267,7 +320,7 @@ PipelineConfig config_from(const std::string& preset, const std::string& yaml_pa
 bool config_file_sets(const std::string& yaml_path, const std::string& section) {
   if (yaml_path.empty()) return false;
   try {
-    const YAML::Node root = YAML::Load(read_file(yaml_path));
+    const YAML::Node root = YAML::Load(read_file(yaml_path, kMaxConfigFileBytes));
     return root && root.IsMap() && root[section];
   } catch (const YAML::Exception&) {
     return false;  // load_config() reports the syntax error
@@ -290,6 +343,19 @@ void validate_config(const PipelineConfig& config, const std::string& source) {
     fail("segmentation.N_min_cluster_small must not exceed N_min_cluster");
   if (c.features.S % 2 != 0) fail("features.S must be even (half of the neighbours on each side)");
   if (c.features.N_fe > c.features.N_Fe) fail("features.N_fe must not exceed N_Fe (f_e is a subset of F_e)");
+  if (c.mapping.latency_scans > c.mapping.every_n_scans)
+    fail("mapping.latency_scans must not exceed mapping.every_n_scans (one mapping job at a time)");
+  // Voxel keys are 32-bit integers per axis: a leaf of 1 mm spans +-2,100 km, room for points up to
+  // 1e6 m from a sensor up to 1e6 m from the start; a smaller leaf would overflow them.
+  for (const auto& [key, leaf] :
+       {std::pair<const char*, double>{"features.plane_leaf_size", c.features.plane_leaf_size},
+        {"mapping.edge_leaf_size", c.mapping.edge_leaf_size},
+        {"mapping.plane_leaf_size", c.mapping.plane_leaf_size},
+        {"mapping.map_leaf_size", c.mapping.map_leaf_size}})
+    if (leaf < detail::kMinLeafSize)
+      fail(std::string(key) + " = " + std::to_string(leaf) +
+           " m is below 0.001 m: the voxel grid's 32-bit keys would overflow within " +
+           std::to_string(2.0e9 * leaf / 1000.0) + " km of the start (and no LiDAR resolves it)");
 }
 
 }  // namespace dloam::io

@@ -8,15 +8,21 @@
 
 #include "dloam/core/types.hpp"
 #include "dloam/io/encoding.hpp"
+#include "dloam/io/kitti.hpp"
 
 namespace dloam::io {
 
-/// Reads a PCD scan. Rejects: missing file, bad header, truncated data, empty cloud,
-/// NaN/Inf coordinates (message names the file and the first bad point's index).
+/// Reads a PCD scan. Points with a NaN/Inf coordinate are no returns (organised clouds keep
+/// their pixels so): they are dropped, and `info` (optional) receives the file's point count and
+/// the file index of every point kept. Rejects: missing file, bad header, data shorter than the
+/// header announces (checked before anything is allocated), empty cloud or no finite point, a
+/// coordinate beyond 1e6 m, a NaN/Inf time or intensity (message names the file and the point).
 /// Per-point times are kept when they already look like sweep fractions (all in [0, 1) and
 /// spanning at least half of it); otherwise (seconds, nanoseconds, ...) they are rescaled
 /// linearly to [0, 1) from their minimum and maximum.
-PointCloud read_pcd(const std::string& path);
+PointCloud read_pcd(const std::string& path, ScanInfo* info = nullptr);
+/// The same from the file's bytes; `name` is used in errors.
+PointCloud parse_pcd(const std::string& bytes, const std::string& name, ScanInfo* info = nullptr);
 
 /// Per-point times (any unit) as sweep fractions in [0, 1): kept when they already look like
 /// fractions, else rescaled linearly from [min, max]. Shared by the PCD and rosbag readers.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 
 #include "dloam/io/atomic_file.hpp"
@@ -92,12 +93,30 @@ PlyHeader parse_header(const std::string& path, const std::string& bytes) {
     fail(path, "vertex needs properties x y z");
   h.data_offset = std::min(pos, bytes.size());
   h.data_line = line + 1;
+  // The data must hold the vertices before anything is allocated for them: a binary record is
+  // `stride` bytes, an ascii line at least one character and a separator per value.
+  const std::size_t per_vertex = h.binary ? h.layout.stride : 2 * h.layout.columns;
+  const std::size_t available = bytes.size() - h.data_offset;
+  if (per_vertex != 0 && h.vertices > (available + (h.binary ? 0 : 1)) / per_vertex)
+    fail(path, "truncated: " + std::to_string(h.vertices) + " vertices need " +
+                   (h.binary ? "" : "at least ") + std::to_string(per_vertex) + " data bytes each, found " +
+                   std::to_string(available) + " bytes in all");
   return h;
+}
+
+/// A value cast to T, clamped to T's range (a direct cast of an out-of-range value is undefined).
+template <class T>
+T clamped(double v) {
+  if (!(v == v)) return T{};
+  const double lo = static_cast<double>(std::numeric_limits<T>::lowest());
+  const double hi = static_cast<double>(std::numeric_limits<T>::max());
+  return static_cast<T>(std::clamp(v, lo, hi));
 }
 }  // namespace
 
-PlyCloud read_ply(const std::string& path) {
-  const std::string bytes = read_file(path);
+PlyCloud read_ply(const std::string& path) { return parse_ply(read_file(path), path); }
+
+PlyCloud parse_ply(const std::string& bytes, const std::string& path) {
   const PlyHeader h = parse_header(path, bytes);
   const Field fx = *h.layout.find({"x"}), fy = *h.layout.find({"y"}), fz = *h.layout.find({"z"});
   const auto fi = h.layout.find({"intensity"});
@@ -109,10 +128,6 @@ PlyCloud read_ply(const std::string& path) {
   if (fi) out.cloud.intensity.resize(h.vertices);
   if (with_rgb) out.rgb.resize(h.vertices);
   if (fl) out.label.resize(h.vertices);
-  if (h.binary && bytes.size() - h.data_offset < h.vertices * h.layout.stride)
-    fail(path, "truncated: " + std::to_string(h.vertices) + " vertices need " +
-                   std::to_string(h.vertices * h.layout.stride) + " data bytes, found " +
-                   std::to_string(bytes.size() - h.data_offset));
   std::vector<double> values;
   auto get = [&](const Field& f, const char* record) {
     return h.binary ? detail::load_scalar(f.type, record + f.offset) : values[f.column];
@@ -140,11 +155,11 @@ PlyCloud read_ply(const std::string& path) {
     const Vec3 p(get(fx, record), get(fy, record), get(fz, record));
     if (!p.allFinite()) fail(path, "vertex " + std::to_string(i) + " has a NaN or Inf coordinate");
     out.cloud.xyz[i] = p;
-    if (fi) out.cloud.intensity[i] = static_cast<float>(get(*fi, record));
+    if (fi) out.cloud.intensity[i] = clamped<float>(get(*fi, record));
     if (with_rgb)
-      out.rgb[i] = {static_cast<std::uint8_t>(get(*fr, record)), static_cast<std::uint8_t>(get(*fg, record)),
-                    static_cast<std::uint8_t>(get(*fb, record))};
-    if (fl) out.label[i] = static_cast<float>(get(*fl, record));
+      out.rgb[i] = {clamped<std::uint8_t>(get(*fr, record)), clamped<std::uint8_t>(get(*fg, record)),
+                    clamped<std::uint8_t>(get(*fb, record))};
+    if (fl) out.label[i] = clamped<float>(get(*fl, record));
   }
   return out;
 }

@@ -28,6 +28,9 @@ void write_ply(const std::string& path, const PointCloud& cloud, Encoding encodi
 
 /// Reads the vertex element (it must be the file's first element). Rejects: missing file, bad
 /// header, big-endian data, list properties in vertex, truncated data, NaN/Inf coordinates.
+/// The vertex count is checked against the data size before anything is allocated.
 PlyCloud read_ply(const std::string& path);
+/// The same from the file's bytes; `name` is used in errors.
+PlyCloud parse_ply(const std::string& bytes, const std::string& name);
 
 }  // namespace dloam::io

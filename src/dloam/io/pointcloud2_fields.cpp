@@ -2,10 +2,13 @@
 #include "dloam/io/pointcloud2_fields.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 
 #include "dloam/io/bytes.hpp"
 #include "dloam/io/pcd.hpp"
+#include "dloam/io/text_util.hpp"
 
 namespace dloam::io {
 
@@ -115,6 +118,7 @@ std::optional<Reader> find_field(const CloudView& msg, const std::string& where,
 void check_layout(const CloudView& msg, const std::string& where) {
   const std::size_t n = static_cast<std::size_t>(msg.width) * msg.height;
   if (n == 0) fail(where, "empty cloud (0 points)");
+  if (msg.point_step == 0) fail(where, "point_step 0 (a point record must hold x, y and z)");
   if (msg.row_step < static_cast<std::size_t>(msg.width) * msg.point_step)
     fail(where, "row_step " + std::to_string(msg.row_step) + " < width " + std::to_string(msg.width) +
                     " * point_step " + std::to_string(msg.point_step));
@@ -158,9 +162,21 @@ ConvertedCloud convert_cloud(const CloudView& msg, const std::string& where) {
         ++out.dropped;
         continue;
       }
+      if (p.cwiseAbs().maxCoeff() > detail::kMaxPointDistance)
+        fail(where, "point " + std::to_string(i) + " is farther than 1e6 m from the sensor: no LiDAR return");
       cloud.xyz.push_back(p);
-      if (intensity) cloud.intensity.push_back(static_cast<float>(intensity->get(record)));
-      if (time) times.push_back(time->get(record));
+      if (intensity) {
+        const double v = intensity->get(record);
+        if (!std::isfinite(v) || std::abs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+          fail(where, "point " + std::to_string(i) + " has intensity " + std::to_string(v) +
+                          " (not a finite float32)");
+        cloud.intensity.push_back(static_cast<float>(v));
+      }
+      if (time) {
+        const double t = time->get(record);
+        if (!std::isfinite(t)) fail(where, "point " + std::to_string(i) + " has a NaN or Inf time");
+        times.push_back(t);
+      }
     }
   }
   if (cloud.empty()) fail(where, "no finite point (all " + std::to_string(n) + " are NaN/Inf)");

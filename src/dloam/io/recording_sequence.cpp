@@ -9,6 +9,7 @@
 #include <set>
 
 #include "dloam/drivers/registry.hpp"
+#include "dloam/io/atomic_file.hpp"
 #include "dloam/io/cdr.hpp"
 #include "dloam/io/packet_messages.hpp"
 #include "dloam/io/packet_sequence.hpp"
@@ -56,9 +57,10 @@ drivers::DriverOptions driver_options(const InputOptions& in, drivers::Vendor ve
                                       const std::string& bag_metadata, std::string& note) {
   drivers::DriverOptions o;
   o.scan = in.scan;
-  std::error_code ec;
+  // Refused here, naming the reason, before a driver opens it: missing, a FIFO (whose open would
+  // wait for a writer), a device, or larger than any calibration file.
   for (const std::string* f : {&in.calibration, &in.metadata})
-    if (!f->empty() && !fs::is_regular_file(*f, ec)) fail(*f, "calibration / metadata file not found");
+    if (!f->empty()) (void)read_file(*f, kMaxConfigFileBytes);
   if (vendor == drivers::Vendor::kOuster) {
     o.calibration = !in.metadata.empty() ? in.metadata : in.calibration;
     if (o.calibration.empty()) {

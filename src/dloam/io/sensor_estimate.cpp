@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dloam/core/preprocess.hpp"
+#include "dloam/core/sensor.hpp"
 #include "dloam/io/config_yaml.hpp"
 
 namespace dloam::io {
@@ -88,6 +90,35 @@ std::string estimated_sensor_yaml(const SensorModelEstimate& est, const std::str
   PipelineConfig cfg;
   cfg.sensor = est.sensor;
   return head + dump_config(cfg, "sensor");
+}
+
+SensorFit sensor_fit(const PointCloud& cloud, const SensorConfig& sensor) {
+  SensorFit fit;
+  fit.points = cloud.size();
+  std::vector<Vec3> points = cloud.xyz;
+  correct_vertical_angle(points, sensor.vertical_angle_correction_deg);
+  const BeamLookup beams(sensor);  // the rows of the range image, beam origin heights included
+  for (const auto& p : points) {
+    const double r = p.norm();
+    if (!(r >= sensor.min_range && r <= sensor.max_range)) continue;
+    ++fit.in_range;
+    fit.inside += beams.row(p) >= 0;
+  }
+  return fit;
+}
+
+std::string sensor_fit_problem(const SensorFit& fit, const SensorConfig& sensor, const std::string& file) {
+  if (fit.in_range < kMinFitPoints || fit.inside >= 0.9 * static_cast<double>(fit.in_range)) return {};
+  char pct[16];
+  std::snprintf(pct, sizeof(pct), "%.0f",
+                100.0 * static_cast<double>(fit.inside) / static_cast<double>(fit.in_range));
+  char fov[64];
+  std::snprintf(fov, sizeof(fov), "%.1f .. %.1f deg", sensor.beam_elevation_deg(0),
+                sensor.beam_elevation_deg(sensor.N_scan - 1));
+  return file + ": only " + pct +
+         "% of the points lie inside the vertical field of view of the sensor model '" + sensor.preset +
+         "' (" + std::to_string(sensor.N_scan) + " beams, " + fov +
+         "): wrong --preset or sensor config? (`dloam check` estimates it)";
 }
 
 }  // namespace dloam::io

@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "dloam/core/sensor.hpp"
 #include "dloam/core/sensor_estimation.hpp"
+#include "dloam/core/types.hpp"
 #include "dloam/io/kitti.hpp"
 
 namespace dloam::io {
@@ -30,5 +32,18 @@ std::string estimated_sensor_yaml(const SensorModelEstimate& estimate, const std
 /// The estimate for the terminal, one line each: beams and elevations, origin heights, columns,
 /// range limits, scan rate, the nearest preset, and what had to be assumed.
 std::vector<std::string> describe_estimate(const SensorModelEstimate& estimate);
+
+/// How one scan fits a sensor model, the test `dloam run` and `dloam check` share: the points
+/// within [min_range, max_range] (vertical-angle correction applied) and how many of them fall on
+/// a beam of the model's range image.
+struct SensorFit {
+  std::size_t points = 0, in_range = 0, inside = 0;
+};
+SensorFit sensor_fit(const PointCloud& cloud, const SensorConfig& sensor);
+/// A scan needs this many points in range to judge the fit by.
+inline constexpr std::size_t kMinFitPoints = 1000;
+/// "<file>: only N% of the points lie inside the vertical field of view ..." when fewer than 90 %
+/// of the points in range fit; empty when they fit or there are fewer than kMinFitPoints.
+std::string sensor_fit_problem(const SensorFit& fit, const SensorConfig& sensor, const std::string& file);
 
 }  // namespace dloam::io

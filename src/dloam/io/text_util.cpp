@@ -6,8 +6,6 @@
 #include <cstdio>
 #include <sstream>
 
-#include "dloam/io/atomic_file.hpp"
-
 namespace dloam::io::detail {
 
 void fail(const std::string& path, const std::string& what) { throw InputError(path + ": " + what); }
@@ -16,8 +14,7 @@ void fail_at(const std::string& path, std::size_t line, const std::string& what)
   throw InputError(path + ":" + std::to_string(line) + ": " + what);
 }
 
-std::vector<std::string> read_lines(const std::string& path) {
-  const std::string text = read_file(path);
+std::vector<std::string> split_lines(const std::string& text) {
   std::vector<std::string> lines;
   std::size_t start = 0;
   while (start < text.size()) {
@@ -29,6 +26,14 @@ std::vector<std::string> read_lines(const std::string& path) {
     start = end + 1;
   }
   return lines;
+}
+
+void check_point_distance(const std::string& path, std::size_t i, const Vec3& p) {
+  if (p.cwiseAbs().maxCoeff() > kMaxPointDistance)
+    fail(path,
+         "point " + std::to_string(i) + " at (" + std::to_string(p.x()) + ", " + std::to_string(p.y()) +
+             ", " + std::to_string(p.z()) +
+             ") is farther than 1e6 m from the sensor: no LiDAR return (a wrong unit or record layout?)");
 }
 
 bool is_blank_or_comment(std::string_view line) {

@@ -16,8 +16,14 @@ namespace dloam::io::detail {
 /// Throws InputError "<path>:<line>: <what>" (1-based line, like a compiler).
 [[noreturn]] void fail_at(const std::string& path, std::size_t line, const std::string& what);
 
-/// The file's lines (without '\n' / '\r'); throws when the file is missing.
-std::vector<std::string> read_lines(const std::string& path);
+/// The lines of a text (without '\n' / '\r').
+std::vector<std::string> split_lines(const std::string& text);
+
+/// Farthest a point may lie from the sensor (m): beyond it a value is no LiDAR return (a wrong
+/// unit or record layout), and voxel keys of any accepted leaf size stay in range.
+inline constexpr double kMaxPointDistance = 1e6;
+/// Throws InputError "<path>: point <i> ... farther than 1e6 m" when a coordinate exceeds it.
+void check_point_distance(const std::string& path, std::size_t i, const Vec3& p);
 
 /// True for lines that carry no data: empty, only spaces, or starting with '#'.
 bool is_blank_or_comment(std::string_view line);

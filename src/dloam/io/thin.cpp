@@ -39,7 +39,7 @@ namespace {
 // The data lines of a text file (no blank or comment lines), as they are.
 std::vector<std::string> data_lines(const std::string& path) {
   std::vector<std::string> out;
-  for (auto& line : detail::read_lines(path))
+  for (auto& line : detail::split_lines(read_file(path, kMaxTableFileBytes)))
     if (!detail::is_blank_or_comment(line)) out.push_back(std::move(line));
   return out;
 }

@@ -24,6 +24,7 @@ constexpr double kProbeInlier = 0.2;
 /// Pixels of the range image per probe pixel sampled (before keeping cluster pixels only).
 constexpr std::size_t kProbePixels = 12000;
 /// A search result replaces the prediction only when it fits this much more of the surface.
+constexpr double kFreeSearchStep = 0.5;  ///< m between travel candidates of the free search
 constexpr double kSearchMargin = 0.05;
 /// Probe points registered per candidate of a step search.
 constexpr std::size_t kSearchPoints = 500;
@@ -75,7 +76,7 @@ Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter
 }
 
 Pipeline::~Pipeline() {
-  if (job_) job_->output.wait();
+  if (job_ && job_->output.valid()) job_->output.wait();
 }
 
 ScanInterval Pipeline::interval_of(const PointCloud& cloud, ScanResult& out) {
@@ -94,6 +95,12 @@ ScanInterval Pipeline::interval_of(const PointCloud& cloud, ScanResult& out) {
     if (std::abs(interval.dt - interval.sweep) < kStampJitter * interval.sweep) interval.dt = interval.sweep;
   }
   if (cloud.stamp) last_stamp_ = cloud.stamp;
+  if (config_.deskew.acceleration) {
+    interval.previous_velocity = motion_.twist();
+    interval.previous_dt = motion_.twist_dt();
+    interval.max_acceleration = config_.motion.max_acceleration;
+    interval.max_angular_acceleration = config_.motion.max_angular_acceleration_deg * M_PI / 180.0;
+  }
   if (count_ > 0) {
     out.dt = interval.dt;
     out.missed_scans = interval.missed_scans();
@@ -122,27 +129,41 @@ bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, cons
         points[static_cast<std::size_t>(seg.image.point_of_pixel[static_cast<std::size_t>(probe[k])])]);
   const FeatureMap* previous = odometry_.previous();
   if (!previous) return false;
-  // With no velocity the search covers every speed and turn rate of the platform, from standing
-  // still; with one, what the platform's accelerations allow around the prediction (the motion
-  // gate): traffic moving with the sensor can make standing still look right, a car at speed
-  // cannot stop in one scan.
-  StepSearchOptions options;
   const double dt = prior.interval.dt;
   const bool known = motion_.known();
-  options.max_rotation = known ? prior.gate.max_rotation
-                               : std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * dt);
-  options.max_translation = known ? prior.gate.max_translation : config_.motion.max_speed * dt;
-  const StepSearchResult found = search_step(
-      source, *previous, {known ? prior.predicted : Pose::Identity()}, options,
-      [&](const Pose& T, double tolerance) { return consistency(seg, points, probe, T, tolerance); });
-  out.search_candidates = found.candidates;
+  auto search = [&](bool gated) {
+    StepSearchOptions options;
+    options.max_rotation = gated ? prior.gate.max_rotation
+                                 : std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * dt);
+    options.max_translation = gated ? prior.gate.max_translation : config_.motion.max_speed * dt;
+    // Along a street the walls and the ground leave the travel to the few surfaces across it, which
+    // the registration barely pulls: the candidates themselves must come within its reach.
+    if (!gated && known) options.translation_step = kFreeSearchStep;
+    std::vector<Pose> starts{Pose::Identity()};
+    if (known)
+      starts =
+          gated ? std::vector<Pose>{prior.predicted} : std::vector<Pose>{prior.predicted, Pose::Identity()};
+    const StepSearchResult r = search_step(
+        source, *previous, starts, options,
+        [&](const Pose& T, double tolerance) { return consistency(seg, points, probe, T, tolerance); });
+    out.search_candidates += r.candidates;
+    return r;
+  };
   // The result must fit clearly better than the prediction, and (with a velocity) about as well as
   // the recent steps: in scenes where little of the surface is static (a highway full of traffic)
   // the score cannot tell motions apart, and the prediction is the better guess.
-  if (!(found.fitness > out.prior_fitness + kSearchMargin)) return false;
-  if (known && found.fitness < kPriorFitRatio * fit_reference_) return false;
-  // ... and stay within what the platform can do: the registration of each candidate is free.
-  if (known && !prior.gate.admits(prior.predicted.inverse() * found.T)) return false;
+  auto fits = [&](const StepSearchResult& r) {
+    return r.fitness > out.prior_fitness + kSearchMargin &&
+           (!known || r.fitness >= kPriorFitRatio * fit_reference_);
+  };
+  // With no velocity the search covers every speed and turn rate of the platform, from standing
+  // still; with one, first what the platform's accelerations allow around the prediction (the
+  // motion gate: traffic moving with the sensor can make standing still look right, a car at speed
+  // cannot stop in one scan), and only when nothing there fits, every motion the platform can make
+  // (scans lost without a stamp to tell, a wrong prediction after a step that was not tracked).
+  StepSearchResult found = search(known);
+  if (known && !fits(found)) found = search(false);
+  if (!fits(found)) return false;
   prior.predicted = found.T;
   out.reinitialized = motion_.known();
   out.prior_fitness = found.fitness;
@@ -262,14 +283,15 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       // turn): de-skew the features again with the motion just estimated, and estimate once more
       // when that motion differs much from the prediction. The map and the next scan's target get
       // the refined features.
-      const Pose change = interval.sweep_motion(initial).inverse() * interval.sweep_motion(odo.motion);
+      const Pose change =
+          interval.sweep_motion(initial).pose().inverse() * interval.sweep_motion(odo.motion).pose();
       if (rotation_angle(change) > kRedeskewRotation || translation_norm(change) > kRedeskewTranslation) {
-        const Pose sweep = interval.sweep_motion(odo.motion);
+        const SweepMotion sweep = interval.sweep_motion(odo.motion);
         sharp.edges = deskew(raw, times, features.f_e_index, sweep);
         sharp.planes = deskew(raw, times, features.f_p_index, sweep);
         odo = believe(odometry_.estimate(sharp, odo.motion, reject, level));
       }
-      const Pose sweep = interval.sweep_motion(odo.motion);
+      const SweepMotion sweep = interval.sweep_motion(odo.motion);
       features.F_e = deskew(raw, times, features.F_e_index, sweep);
       features.F_p = deskew(raw, times, features.F_p_index, sweep);
     }
@@ -305,7 +327,15 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   // The constant-velocity prediction is the odometry's last motion over the time it took: mapping
   // corrections (and loop closures) move the integrated pose in jumps when they arrive, which are
   // not motion.
-  if (count_ > 0) motion_.update(odometry_poses_[count_ - 1].inverse() * odometry_pose_, interval.dt);
+  // A re-initialised step the platform's accelerations cannot explain (scans lost without a stamp to
+  // say so) is no velocity: the next step is searched without one.
+  if (count_ > 0) {
+    const Pose step = odometry_poses_[count_ - 1].inverse() * odometry_pose_;
+    if (out.reinitialized && !prior.gate.admits(motion_.predict(interval.dt).inverse() * step))
+      motion_.reset();
+    else
+      motion_.update(step, interval.dt);
+  }
   last_pose_ = out.pose;
   // The next step check compares with this scan's static part: moving objects cannot vouch for a
   // motion (traffic moving with the sensor agrees with standing still).
@@ -338,13 +368,18 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
   in.keyframe = mapper_.needs_keyframe(in.predicted);
   out.mapped = true;
   out.keyframe = in.keyframe;
-  if (in.keyframe) {
+  // A keyframe whose scan gave no map points (the first scan with a detector on: its moving
+  // objects are unknown) takes those of the next mapped scan that has some; a vehicle standing
+  // still makes no second keyframe and would map nothing.
+  const bool fill = !in.keyframe && keyframe_without_points_ && !map_points.empty();
+  if (in.keyframe || fill) {
     out.map_points = std::move(map_points);
     in.points.reserve(out.map_points.size());
     for (std::size_t i : out.map_points) in.points.push_back(points[i]);
+    keyframe_without_points_ = in.keyframe && out.map_points.empty();
   }
-  if (count_ == 0) {  // wait for the first motion (scan 1) to de-skew it
-    first_.emplace();
+  if (count_ == 0) {              // wait for the first motion (scan 1) to de-skew it
+    first_.emplace(FirstScan{});  // not emplace(): clang rejects it for a nested struct with initialisers
     if (!times.empty()) {
       first_->raw = raw;
       first_->times = times;
@@ -359,7 +394,7 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
   if (config_.mapping.latency_scans == 0) integrate_job(&out);
 }
 
-void Pipeline::deskew_first_scan(const Pose& sweep_motion) {
+void Pipeline::deskew_first_scan(const SweepMotion& sweep_motion) {
   FirstScan& f = *first_;
   f.input.features.edges = deskew(f.raw, f.times, f.F_e_index, sweep_motion);
   f.input.features.planes = deskew(f.raw, f.times, f.F_p_index, sweep_motion);
@@ -375,8 +410,19 @@ void Pipeline::start_job(MappingInput input) {
   job.output = std::async(std::launch::async, [this, in = std::move(input)] {
     const auto start = std::chrono::steady_clock::now();
     MappingOutput o;
-    o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe);
-    if (in.keyframe) mapper_.add_to_global_map(in.points);
+    const std::string where = "mapping of scan " + std::to_string(in.scan) + ": ";
+    try {
+      o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe);
+      if (in.keyframe) {
+        mapper_.add_to_global_map(in.points);
+      } else if (!in.points.empty()) {  // the points of a keyframe that had none (map_scan)
+        mapper_.add_to_global_map(in.points, o.result.pose);
+      }
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    } catch (const std::exception& e) {
+      throw std::runtime_error(where + e.what());
+    }
     o.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return o;
   });
@@ -385,14 +431,16 @@ void Pipeline::start_job(MappingInput input) {
 
 void Pipeline::integrate_job(ScanResult* out) {
   if (!job_) return;
-  const MappingOutput o = job_->output.get();  // rethrows the job's exception
-  correction_ = normalized(o.result.pose * job_->odometry_pose.inverse());
-  mapped_.emplace_back(job_->scan, o.result.pose);
+  // The job leaves job_ before get() rethrows its exception: a failed job is not joined twice.
+  Job job = std::move(*job_);
+  job_.reset();
+  const MappingOutput o = job.output.get();  // rethrows the job's exception
+  correction_ = normalized(o.result.pose * job.odometry_pose.inverse());
+  mapped_.emplace_back(job.scan, o.result.pose);
   if (out) {
     out->loop_closed = out->loop_closed || o.result.loop.has_value();
     out->times[Module::kMapping] += o.ms;
   }
-  job_.reset();
 }
 
 void Pipeline::finish() {

@@ -121,7 +121,7 @@ class Pipeline {
   /// Scan 1: de-skews the first scan's features (the odometry target) and map points with the
   /// sweep motion of scan 1 (constant velocity): T_coarse before the first estimate, then the
   /// estimate; map_scan() then maps it.
-  void deskew_first_scan(const Pose& sweep_motion);
+  void deskew_first_scan(const SweepMotion& sweep_motion);
   /// The time since the previous scan from the stamps (one sweep when a stamp is missing).
   ScanInterval interval_of(const PointCloud& cloud, ScanResult& out);
   /// The fraction of the surface of the `probe` pixels whose range agrees with the previous
@@ -148,6 +148,7 @@ class Pipeline {
   std::vector<Pose> odometry_poses_;                  ///< per scan
   std::vector<std::pair<std::size_t, Pose>> mapped_;  ///< (scan, refined pose) of integrated jobs
   std::optional<FirstScan> first_;
+  bool keyframe_without_points_ = false;  ///< the newest keyframe's scan added no map points
   struct Job {
     std::size_t scan = 0;
     Pose odometry_pose = Pose::Identity();

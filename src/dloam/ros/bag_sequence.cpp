@@ -6,10 +6,12 @@
 #include <rosbag/view.h>
 
 #include <atomic>
+#include <boost/make_shared.hpp>
 #include <memory>
 #include <mutex>
 #include <set>
 
+#include "dloam/ros/bag_check.hpp"
 #include "dloam/ros/bag_stamp.hpp"
 #include "dloam/ros/pointcloud2.hpp"
 
@@ -23,6 +25,8 @@ constexpr const char* kPointCloud2 = "sensor_msgs/PointCloud2";
 }
 
 std::unique_ptr<rosbag::Bag> open_bag(const std::string& path) {
+  // The library allocates what a record's length fields claim: check them first.
+  check_bag_structure(path);
   auto bag = std::make_unique<rosbag::Bag>();
   try {
     bag->open(path, rosbag::bagmode::Read);
@@ -88,7 +92,7 @@ class BagSource : public io::ScanSource {
   }
 
   [[nodiscard]] PointCloud read(std::size_t i) const override {
-    const auto msg = instantiate<sensor_msgs::PointCloud2>(i);
+    const auto msg = instantiate_cloud(i);
     ConvertedCloud converted = from_pointcloud2(*msg, name(i));
     dropped_ += converted.dropped;
     return std::move(converted.cloud);
@@ -111,6 +115,32 @@ class BagSource : public io::ScanSource {
       fail(name(i), std::string("cannot be read (") + e.what() + ")");
     }
     if (!msg) fail(name(i), "has another definition of " + std::string(kPointCloud2) + " (MD5 sum differs)");
+    return msg;
+  }
+
+  /// Message i as a PointCloud2, its lengths checked before deserialising (which resizes
+  /// vectors to whatever the bytes say).
+  boost::shared_ptr<sensor_msgs::PointCloud2> instantiate_cloud(std::size_t i) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const rosbag::MessageInstance& m = messages_.at(i);
+    if (!m.isType<sensor_msgs::PointCloud2>())
+      fail(name(i), "has another definition of " + std::string(kPointCloud2) + " (MD5 sum differs)");
+    std::vector<std::uint8_t> raw;
+    try {
+      raw.resize(m.size());
+      ros::serialization::OStream out(raw.data(), static_cast<std::uint32_t>(raw.size()));
+      m.write(out);
+    } catch (const std::exception& e) {  // rosbag::BagException, ros::serialization::StreamOverrunException
+      fail(name(i), std::string("cannot be read (") + e.what() + ")");
+    }
+    check_pointcloud2_lengths(raw.data(), raw.size(), name(i));
+    auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
+    try {
+      ros::serialization::IStream in(raw.data(), static_cast<std::uint32_t>(raw.size()));
+      ros::serialization::deserialize(in, *msg);
+    } catch (const std::exception& e) {
+      fail(name(i), std::string("cannot be read (") + e.what() + ")");
+    }
     return msg;
   }
 
@@ -139,7 +169,15 @@ io::Sequence open_bag_sequence(const std::string& bag_path, const std::string& t
   seq.dir = bag_path;
   for (std::size_t i = 0; i < source->size(); ++i) {
     seq.scan_files.push_back(source->name(i));
-    seq.times.push_back(source->stamp(i));
+    const double stamp = source->stamp(i);
+    // Scan times must increase, as in times.txt: a repeated or earlier stamp is a duplicated or
+    // reordered message, and the TUM output would repeat or reorder its time.
+    if (i > 0 && !(stamp > seq.times.back()))
+      fail(source->name(i), "stamp " + std::to_string(stamp) + " s is " +
+                                (stamp == seq.times.back() ? "the same as" : "earlier than") + " message " +
+                                std::to_string(i - 1) + "'s (" + std::to_string(seq.times.back()) +
+                                " s): scan times must increase");
+    seq.times.push_back(stamp);
   }
   seq.source = std::move(source);
   return seq;

@@ -45,7 +45,9 @@ json odometry_json(const eval::OdometryResult& r, const eval::SegmentOptions& op
           {"rpe_trans_m", r.rpe.trans_m.rmse},
           {"rpe_trans_mean_m", r.rpe.trans_m.mean},
           {"rpe_rot_deg", r.rpe.rot_deg.rmse},
-          {"rpe_rot_mean_deg", r.rpe.rot_deg.mean}};
+          {"rpe_rot_mean_deg", r.rpe.rot_deg.mean},
+          {"steps", r.rpe.steps},
+          {"steps_tracked", r.rpe.tracked}};
 }
 
 json mos_json(const eval::MosResult& r, double object_threshold) {
