@@ -27,7 +27,7 @@ const Data& data() {
     Data x;
     x.cfg = io::default_config("HDL-64E");  // as config/kitti-raw.yaml
     x.cfg.sensor.vertical_angle_correction_deg = 0.22;
-    x.cfg.detection.detector = "geometric";
+    x.cfg.detection.detector = Detector::kGeometric;
     const io::Sequence seq = io::open_sequence(DLOAM_KITTI_0005);
     const auto poses = seq.lidar_poses();
     x.motion = poses[10].inverse() * poses[11];

@@ -94,20 +94,20 @@ TEST(MosNet, AutoUsesTheCnnOnlyForTheRangeImageSizeItWasTrainedOn) {
   EXPECT_EQ(o.trained_cols, 2048);
 
   DetectionConfig d;
-  d.detector = "auto";
+  d.detector = Detector::kAuto;
   d.m = 2;
   d.model_path = path;
   std::string note;
   EXPECT_NE(cnn::prepare_detector(d, "", sensor_preset("HDL-64E"), &note), nullptr);
-  EXPECT_EQ(d.detector, "cnn");
+  EXPECT_EQ(d.detector, Detector::kCnn);
   EXPECT_TRUE(note.empty()) << note;
 
-  d.detector = "auto";
+  d.detector = Detector::kAuto;
   EXPECT_EQ(cnn::prepare_detector(d, "", sensor_preset("VLP-16"), &note), nullptr);
-  EXPECT_EQ(d.detector, "geometric");
+  EXPECT_EQ(d.detector, Detector::kGeometric);
   EXPECT_NE(note.find("16 x 1800"), std::string::npos) << note;
 
-  d.detector = "cnn";  // asked for: used, with a warning
+  d.detector = Detector::kCnn;  // asked for: used, with a warning
   note.clear();
   EXPECT_NE(cnn::prepare_detector(d, "", sensor_preset("VLP-16"), &note), nullptr);
   EXPECT_NE(note.find("warning"), std::string::npos) << note;
@@ -123,7 +123,7 @@ TEST(MosNet, AutoUsesTheCnnOnlyForTheRangeImageSizeItWasTrainedOn) {
 // from scan 57 on are scored; `dloam run` on scans 0-99 measured 88.8 % IoU).
 TEST(CnnPipeline, ShippedModelSegmentsMovingObjectsOfAnUnseenSimulatedDrive) {
   PipelineConfig cfg;
-  cfg.detection.detector = "cnn";
+  cfg.detection.detector = Detector::kCnn;
   const std::string model = cnn::resolve_model_path(cfg.detection, DLOAM_MODEL_DIR);
   ASSERT_TRUE(fs::exists(model)) << model;
   constexpr int kFrames = 80;
@@ -148,7 +148,7 @@ TEST(CnnPipeline, ShippedModelSegmentsMovingObjectsOfAnUnseenSimulatedDrive) {
 // odometry locked onto the traffic (0.23 m instead of 2.5 m per scan) and never recovered.
 TEST(CnnPipeline, FirstScansOfAHighwayDriveDoNotLockOntoTraffic) {
   PipelineConfig cfg;
-  cfg.detection.detector = "cnn";
+  cfg.detection.detector = Detector::kCnn;
   const std::string model = cnn::resolve_model_path(cfg.detection, DLOAM_MODEL_DIR);
   ASSERT_TRUE(fs::exists(model)) << model;
   // The world of `dloam simulate --scenario highway --frames 100 --seed 2 --traffic 3`.

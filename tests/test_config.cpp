@@ -97,7 +97,7 @@ TEST(Config, EveryFieldOfConfigHppHasAYamlKey) {
   EXPECT_EQ(schema_keys<OdometryConfig>(), field_count<OdometryConfig>());
   EXPECT_EQ(schema_keys<MappingConfig>(), field_count<MappingConfig>());
   EXPECT_EQ(schema_keys<PipelineConfig>(), field_count<PipelineConfig>());
-  EXPECT_EQ(field_count<DeskewConfig>(), 2u);  // the counter itself works
+  EXPECT_EQ(field_count<DeskewConfig>(), 3u);  // the counter itself works
 }
 
 TEST(Config, DumpThenLoadGivesTheSameConfigForEveryPreset) {
@@ -114,14 +114,14 @@ TEST(Config, DumpThenLoadGivesTheSameConfigForEveryPreset) {
 TEST(Config, NonDefaultValuesSurviveTheRoundTrip) {
   auto config = default_config("VLP-16");
   config.sensor.vertical_angle_correction_deg = 0.205;
-  config.detection.detector = "cnn";
+  config.detection.detector = Detector::kCnn;
   config.detection.model_path = "models/my model: v2.bin";
   config.deskew.enabled = false;
   config.features.c_th = 0.1 + 1e-12;
   config.threads = 7;
   const auto back = config_from_yaml_string(dump_config(config));
   EXPECT_EQ(back.sensor.vertical_angle_correction_deg, 0.205);
-  EXPECT_EQ(back.detection.detector, "cnn");
+  EXPECT_EQ(back.detection.detector, Detector::kCnn);
   EXPECT_EQ(back.detection.model_path, "models/my model: v2.bin");
   EXPECT_FALSE(back.deskew.enabled);
   EXPECT_EQ(back.features.c_th, 0.1 + 1e-12);

@@ -18,7 +18,7 @@ sim::Simulator simulator(int frames) {
 
 PipelineConfig vlp16(const std::string& detector) {
   PipelineConfig cfg = io::default_config("VLP-16");
-  cfg.detection.detector = detector;
+  cfg.detection.detector = *enum_from_name<Detector>(detector);
   return cfg;
 }
 }  // namespace

@@ -115,7 +115,7 @@ HighwayRun run_highway(double traffic, int frames, const PipelineConfig& base) {
       test::make_simulator(sim::ScenarioKind::Highway, 100, 2, sensor_preset("HDL-64E"), traffic);
   PipelineConfig cfg = base;
   cfg.sensor = simulator.options().sensor;
-  cfg.detection.detector = "geometric";
+  cfg.detection.detector = Detector::kGeometric;
   Pipeline pipeline(cfg);
   HighwayRun run;
   for (int k = 0; k < frames; ++k) {
@@ -183,7 +183,7 @@ TEST(OdometrySim, TheFirstStepIsMeasuredBetweenTwoDeskewedScans) {
         test::make_simulator(sim::ScenarioKind::Urban, 4, seed, sensor_preset("HDL-64E"), 0.0);
     PipelineConfig cfg;
     cfg.sensor = simulator.options().sensor;
-    cfg.detection.detector = "geometric";
+    cfg.detection.detector = Detector::kGeometric;
     Pipeline pipeline(cfg);
     std::vector<Pose> gt;
     for (int k = 0; k < 3; ++k) {

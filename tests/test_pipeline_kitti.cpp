@@ -110,7 +110,7 @@ TEST(PipelineKitti, DeterministicAndDeskewHelps) {
 
 TEST(Pipeline, TheCnnDetectorNeedsAModel) {
   PipelineConfig cfg;
-  cfg.detection.detector = "cnn";
+  cfg.detection.detector = Detector::kCnn;
   EXPECT_THROW(Pipeline{cfg}, std::invalid_argument);  // no segmenter given (front-ends load models/)
 }
 

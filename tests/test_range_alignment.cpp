@@ -117,7 +117,7 @@ TEST(RangeAlignment, SixteenBeamStreetBuildingsAreNotFlaggedMoving) {
   for (bool refine : {false, true}) {
     PipelineConfig cfg;
     cfg.sensor = simulator.options().sensor;
-    cfg.detection.detector = "geometric";
+    cfg.detection.detector = Detector::kGeometric;
     cfg.preregistration.refine = refine;
     Pipeline pipeline(cfg);
     false_moving = static_points = 0;

@@ -432,7 +432,7 @@ TEST(SensorEstimateCli, WriteSensorRecoversAWideSensorAndRunsOnIt) {
   const PipelineConfig used = io::load_config(dir.file("fileauto/config.yaml"));
   EXPECT_EQ(used.sensor.max_range, 50.0);
   EXPECT_EQ(used.sensor.N_scan, 64);
-  EXPECT_EQ(used.deskew.time_source, "azimuth");
+  EXPECT_EQ(used.deskew.time_source, TimeSource::kAzimuth);
 }
 
 TEST(SensorEstimateCli, AutoOutsideRunAndCheckAndUnusableScansAreClearErrors) {

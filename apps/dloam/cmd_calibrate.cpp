@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "config_args.hpp"
 #include "dloam/core/beam_calibration.hpp"
 #include "dloam/core/preprocess.hpp"
 #include "dloam/core/range_image.hpp"
@@ -20,7 +21,8 @@ namespace dloam::app {
 namespace {
 
 struct CalibrateArgs {
-  std::string dir, preset, config_path, out;
+  std::string dir, out;
+  ConfigArgs config;
   int every = 10;
 };
 
@@ -70,7 +72,7 @@ struct Fit {
 };
 
 void run_calibrate(const CalibrateArgs& a) {
-  PipelineConfig cfg = io::config_from(a.preset, a.config_path);
+  PipelineConfig cfg = io::config_from(a.config.preset, a.config.config_path);
   const io::Sequence seq = io::open_sequence(a.dir);
   BeamTableFit fitter(cfg.sensor);
   std::vector<std::vector<Vec3>> scans;
@@ -117,14 +119,14 @@ void register_calibrate(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "calibrate-beams", "fit the beam table (elevation, origin height) from scans stored ring by ring");
   cmd->add_option("SEQUENCE_DIR", args->dir, "sequence folder (KITTI .bin scans)")->required();
-  cmd->add_option("--config,-c", args->config_path, "YAML config whose sensor section is the starting model")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--preset", args->preset, "sensor preset: " + sensor_preset_list());
+  ConfigHelp config_help;
+  config_help.config = "YAML config (or shipped name) whose sensor section is the starting model";
+  add_config_options(cmd, args->config, config_help);
   cmd->add_option("--out,-o", args->out, "write the YAML sensor section here (default: stdout)");
   cmd->add_option("--every", args->every, "use every N-th scan")->check(CLI::Range(1, 1000000));
   cmd->footer(
       "Example:\n"
-      "  dloam calibrate-beams ../shared/data/kitti-raw-0005 --config config/kitti-raw.yaml > sensor.yaml");
+      "  dloam calibrate-beams ../shared/data/kitti-raw-0005 --config kitti-raw > sensor.yaml");
   cmd->callback([args] { run_calibrate(*args); });
 }
 

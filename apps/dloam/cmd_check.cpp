@@ -9,9 +9,11 @@
 #include <string>
 
 #include "commands.hpp"
+#include "config_args.hpp"
 #include "dloam/core/sensor.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
+#include "dloam/io/input_options.hpp"
 #include "dloam/io/sequence_check.hpp"
 #include "input_args.hpp"
 
@@ -19,7 +21,8 @@ namespace dloam::app {
 namespace {
 
 struct CheckArgs {
-  std::string dir, preset, config_path, write_sensor;
+  std::string dir, write_sensor;
+  ConfigArgs config;
   InputArgs input;
 };
 
@@ -96,16 +99,17 @@ void print_summary(const io::SequenceReport& r, const std::string& preset) {
 }
 
 void run_check(const CheckArgs& a) {
-  if (!a.preset.empty()) (void)sensor_preset(a.preset);  // reject an unknown name before reading
+  if (!a.config.preset.empty())
+    (void)sensor_preset(a.config.preset);  // reject an unknown name before reading
   io::CheckOptions options;
-  options.input = to_input_options(apply_input_args(InputConfig{}, a.input));
-  if (!a.config_path.empty()) {  // its vertical-angle correction applies to the points estimated from
-    const PipelineConfig file = io::config_from_allowing_auto("", a.config_path);
+  options.input = io::input_options(apply_input_args(InputConfig{}, a.input));
+  if (!a.config.config_path.empty()) {  // its vertical-angle correction applies to the points estimated from
+    const PipelineConfig file = io::config_from_allowing_auto("", a.config.config_path);
     options.estimation.vertical_angle_correction_deg = file.sensor.vertical_angle_correction_deg;
   }
   // The sensor `dloam run` would use with the same options: scans that do not fit it are problems.
-  if (!a.preset.empty() || !a.config_path.empty()) {
-    const PipelineConfig cfg = io::config_from_allowing_auto(a.preset, a.config_path);
+  if (!a.config.preset.empty() || !a.config.config_path.empty()) {
+    const PipelineConfig cfg = io::config_from_allowing_auto(a.config.preset, a.config.config_path);
     if (!io::sensor_needs_estimate(cfg)) options.sensor = cfg.sensor;
   }
   options.on_problem = [](const std::string& problem) {
@@ -117,7 +121,7 @@ void run_check(const CheckArgs& a) {
     std::fflush(stderr);
   };
   const auto report = io::check_sequence(a.dir, options);
-  print_summary(report, a.preset);
+  print_summary(report, a.config.preset);
   if (!a.write_sensor.empty()) {
     if (!report.sensor) throw InputError(a.dir + ": no sensor model to write: " + report.sensor_error);
     const std::string yaml = io::estimated_sensor_yaml(*report.sensor, a.dir);
@@ -150,14 +154,15 @@ void register_check(CLI::App& app) {
          "(.pcap, .pcapng)")
       ->required();
   add_input_options(cmd, args->input);
-  cmd->add_option("--preset", args->preset,
-                  "sensor you expect (" + sensor_preset_list() +
-                      "; auto: estimated): scans that do not fit it are "
-                      "problems, as in `dloam run`; warns if the data's beams differ from it");
-  cmd->add_option("--config,-c", args->config_path,
-                  "YAML config whose sensor the scans must fit, as in `dloam run`; its "
-                  "sensor.vertical_angle_correction_deg is applied before estimating (e.g. 0.22 for KITTI)")
-      ->check(CLI::ExistingFile);
+  ConfigHelp config_help;
+  config_help.preset =
+      "sensor you expect ({presets}; auto: estimated): scans that do not fit it are problems, as in `dloam "
+      "run`; "
+      "warns if the data's beams differ from it";
+  config_help.config =
+      "YAML config (or shipped name) whose sensor the scans must fit, as in `dloam run`; its "
+      "sensor.vertical_angle_correction_deg is applied before estimating (e.g. kitti-raw: 0.22 for KITTI)";
+  add_config_options(cmd, args->config, config_help);
   cmd->add_option("--write-sensor", args->write_sensor,
                   "write the estimated sensor model as a YAML sensor section (for --config); fails when "
                   "the scans do not determine one");

@@ -16,11 +16,13 @@
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
+#include "dloam/io/input_options.hpp"
 #include "dloam/io/pcd.hpp"
 #include "dloam/io/ply.hpp"
+#include "dloam/run/metrics.hpp"
 #include "input_args.hpp"
+#include "odometry_table.hpp"
 #include "progress.hpp"
-#include "report.hpp"
 
 namespace dloam::app {
 
@@ -40,14 +42,15 @@ std::vector<Vec3> drive_scan_points(const PointCloud& cloud, const std::vector<P
                                     const std::vector<double>& stamps, const PipelineConfig& cfg) {
   std::vector<Vec3> points = cloud.xyz;
   correct_vertical_angle(points, cfg.sensor.vertical_angle_correction_deg);
-  if (!cfg.deskew.enabled || cfg.deskew.time_source == "none" || poses.size() < 2) return points;
+  if (!cfg.deskew.enabled || cfg.deskew.time_source == TimeSource::kNone || poses.size() < 2) return points;
   const std::size_t a = k > 0 ? k - 1 : 0, b = k > 0 ? k : 1;
   ScanInterval interval;
   interval.sweep = 1.0 / cfg.sensor.scan_rate_hz;
   interval.dt =
       stamps.size() == poses.size() && stamps[b] > stamps[a] ? stamps[b] - stamps[a] : interval.sweep;
   const Pose step = poses[a].inverse() * poses[b];
-  return deskew(points, point_times(cloud, cfg.deskew.time_source == "auto"), interval.sweep_motion(step));
+  return deskew(points, point_times(cloud, cfg.deskew.time_source == TimeSource::kAuto),
+                interval.sweep_motion(step));
 }
 
 namespace {
@@ -129,7 +132,7 @@ void clean_sequence(const io::Sequence& seq, const std::vector<Pose>& poses, std
                       {"max_scans_held", held}};
   if (seq.has_labels()) {
     print_mos(mos, 0.5);
-    j["mos"] = mos_json(mos, 0.5);
+    j["mos"] = run::mos_json(mos, 0.5);
   }
   io::write_atomic(out_dir + "/metrics.json", [&](std::ostream& o) { o << j.dump(2) << '\n'; });
   fmt::print("wrote {}/labels/, map.ply, map.pcd, metrics.json\n", out_dir);
@@ -149,7 +152,7 @@ void run_clean(const CleanArgs& a) {
   if (config_path.empty() && fs::exists(a.run_dir + "/config.yaml")) config_path = a.run_dir + "/config.yaml";
   PipelineConfig cfg = io::config_from("", config_path);
   cfg.input = apply_input_args(cfg.input, a.input);
-  const io::Sequence seq = io::open_sequence(a.sequence, to_input_options(cfg.input));
+  const io::Sequence seq = io::open_sequence(a.sequence, io::input_options(cfg.input));
   if (seq.sensor && !io::config_file_sets(config_path, "sensor")) cfg.sensor = *seq.sensor;
   const std::vector<Pose> poses = read_run_poses(a.run_dir, seq);
   fmt::print("dloam clean: {} scans of {} with the poses of {} ({}) -> {}/clean\n", poses.size(), a.sequence,

@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
+#include "dloam/io/input_options.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/mcap.hpp"
 #include "dloam/io/pcd.hpp"
@@ -69,7 +70,7 @@ class CloudBagWriter {
 
 void run_convert(const ConvertArgs& a) {
   const InputConfig input = apply_input_args(InputConfig{}, a.recording);
-  const io::Sequence seq = io::open_sequence(a.input, to_input_options(input));
+  const io::Sequence seq = io::open_sequence(a.input, io::input_options(input));
   const std::size_t first = static_cast<std::size_t>(std::max(0L, a.first));
   if (first >= seq.size())
     throw InputError(fmt::format("{}: --first {} but it has {} scans", a.input, first, seq.size()));

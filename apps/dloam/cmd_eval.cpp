@@ -20,8 +20,9 @@
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/ply.hpp"
+#include "dloam/run/metrics.hpp"
 #include "gnuplot.hpp"
-#include "report.hpp"
+#include "odometry_table.hpp"
 
 namespace dloam::app {
 namespace {
@@ -100,7 +101,7 @@ void run_odometry(const OdometryArgs& args, bool lengths_given, bool step_given)
   const std::string frame = args.calib.empty() ? "as given" : "lidar (Tr^-1 P Tr)";
   print_odometry(r, frame);
   if (!args.json_path.empty()) {
-    json doc = odometry_json(r, options, frame);
+    json doc = run::odometry_json(r, options, frame);
     doc["gt"] = args.gt;
     doc["estimate"] = args.est;
     write_json(args.json_path, doc);
@@ -152,7 +153,7 @@ void run_mos(const MosArgs& args) {
                unmatched, args.pred_dir, args.gt_dir);
   print_mos(r, args.object_threshold);
   if (!args.json_path.empty()) {
-    json doc = mos_json(r, args.object_threshold);
+    json doc = run::mos_json(r, args.object_threshold);
     doc["gt_dir"] = args.gt_dir;
     doc["pred_dir"] = args.pred_dir;
     write_json(args.json_path, doc);

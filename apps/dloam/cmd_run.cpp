@@ -11,21 +11,23 @@
 #include "clean_pass.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
+#include "config_args.hpp"
 #include "dloam/eval/mos_metrics.hpp"
+#include "dloam/eval/odometry_metrics.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
-#ifdef DLOAM_WITH_TORCH
-#include "dloam/cnn/cnn_segmenter.hpp"
-#endif
+#include "dloam/io/input_options.hpp"
 #include "dloam/io/kitti.hpp"
-#include "dloam/io/ply.hpp"
 #include "dloam/io/sensor_estimate.hpp"
-#include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
+#include "dloam/run/detector_setup.hpp"
+#include "dloam/run/metrics.hpp"
+#include "enum_option.hpp"
+#include "html_report.hpp"
 #include "input_args.hpp"
+#include "odometry_table.hpp"
 #include "output_dir.hpp"
 #include "progress.hpp"
-#include "report.hpp"
 #include "stop_signals.hpp"
 
 namespace dloam::app {
@@ -34,24 +36,26 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunArgs {
-  std::string sequence, out, config_path, preset, detector, deskew, platform, gt_frame = "auto";
+  std::string sequence, out, detector, deskew, platform, gt_frame = "auto";
+  ConfigArgs config;
   InputArgs input;
   std::vector<double> lengths;
   long first = 0, count = -1;
-  bool drop_moving = false, overwrite = false;
+  bool drop_moving = false, overwrite = false, report = false;
   bool clean = false;
 };
 
 /// The preset is the starting point; the file's keys override it (as `dloam config dump`). A
 /// sensor preset auto stays unresolved until `estimated` is given.
 PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nullptr) {
-  PipelineConfig cfg = estimated ? io::config_from(a.preset, a.config_path, *estimated)
-                                 : io::config_from_allowing_auto(a.preset, a.config_path);
-  if (!a.detector.empty()) cfg.detection.detector = a.detector;
+  const ConfigArgs& c = a.config;
+  PipelineConfig cfg = estimated ? io::config_from(c.preset, c.config_path, *estimated)
+                                 : io::config_from_allowing_auto(c.preset, c.config_path);
+  if (!a.detector.empty()) cfg.detection.detector = *enum_from_name<Detector>(a.detector);  // parser-checked
   if (a.deskew == "on") cfg.deskew.enabled = true;
   if (a.deskew == "off") cfg.deskew.enabled = false;
   if (!a.platform.empty()) cfg.motion = motion_preset(a.platform);
-  io::validate_config(cfg, a.config_path.empty() ? "built-in config" : a.config_path);
+  io::validate_config(cfg, c.config_path.empty() ? "built-in config" : c.config_path);
   return cfg;
 }
 
@@ -142,30 +146,8 @@ void print_summary(const std::vector<ScanResult>& results) {
   fmt::print("  => {:.1f} scans/s\n", mean[Module::kTotal] > 0 ? 1000.0 / mean[Module::kTotal] : 0.0);
 }
 
-/// How the tracking went: scans lost before the scans of the run (gaps in the stamps), steps the
-/// odometry re-initialised or could not estimate, degenerate scans.
-nlohmann::json tracking_json(const std::vector<ScanResult>& results) {
-  std::size_t gaps = 0, missed = 0, degenerate = 0, searched = 0, reinitialized = 0;
-  std::vector<std::size_t> lost;
-  double max_dt = 0.0;
-  for (const ScanResult& r : results) {
-    gaps += r.missed_scans > 0;
-    missed += static_cast<std::size_t>(r.missed_scans);
-    degenerate += r.degenerate;
-    searched += r.search_candidates > 0;
-    reinitialized += r.reinitialized;
-    if (r.lost) lost.push_back(r.index);
-    max_dt = std::max(max_dt, r.dt);
-  }
-  return {{"scans", results.size()},       {"gaps", gaps},
-          {"missed_scans", missed},        {"max_interval_s", max_dt},
-          {"searched_steps", searched},    {"reinitialized_steps", reinitialized},
-          {"lost_steps", lost.size()},     {"lost_scans", lost},
-          {"degenerate_scans", degenerate}};
-}
-
 void print_tracking(const std::vector<ScanResult>& results) {
-  const nlohmann::json t = tracking_json(results);
+  const nlohmann::json t = run::tracking_json(results);
   if (t["gaps"].get<std::size_t>() > 0)
     fmt::print("gaps in the scan times: {} ({} scans missing, longest interval {:.3f} s)\n",
                t["gaps"].get<std::size_t>(), t["missed_scans"].get<std::size_t>(),
@@ -184,23 +166,19 @@ void print_tracking(const std::vector<ScanResult>& results) {
 void merge_tracking_summary(const std::string& path, const std::vector<ScanResult>& results) {
   nlohmann::json j = nlohmann::json::object();
   if (fs::exists(path)) j = nlohmann::json::parse(std::ifstream(path));
-  j["tracking"] = tracking_json(results);
+  j["tracking"] = run::tracking_json(results);
   io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
 }
 
-/// Resolves detector "auto" / the shipped model in `cfg` and loads the CNN when it is used.
-std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& cfg) {
-#ifdef DLOAM_WITH_TORCH
-  std::string note;
-  auto segmenter = cnn::prepare_detector(cfg.detection, DLOAM_MODEL_DIR, cfg.sensor, &note);
-  if (!note.empty()) fmt::print(stderr, "{}\n", note);
-  return segmenter;
-#else
-  if (cfg.detection.detector == "auto") cfg.detection.detector = "geometric";
-  if (cfg.detection.detector == "cnn")
-    throw std::invalid_argument("detector cnn: this dloam was built without LibTorch (DLOAM_WITH_TORCH=OFF)");
-  return nullptr;
-#endif
+/// The odometry against the ground truth: printed, and metrics.json started with it.
+void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,
+                            const std::vector<Pose>& est, const std::vector<double>& lengths) {
+  const auto options = run::segment_options(gt, lengths);
+  const auto r = eval::evaluate_odometry(gt, est, options);
+  const std::string frame = "lidar";
+  print_odometry(r, frame);
+  const nlohmann::json doc = {{"odometry", run::odometry_json(r, options, frame)}};
+  io::write_atomic(json_path, [&](std::ostream& o) { o << doc.dump(2) << '\n'; });
 }
 
 /// Scans on which the odometry had nothing to hold on to: the predicted motion was kept there.
@@ -272,7 +250,7 @@ PipelineConfig estimate_sensor(const RunArgs& a, const PipelineConfig& cfg, cons
 /// The sensor model of a raw-packet recording replaces the default one when neither --preset nor
 /// the config file's sensor section chose one.
 void take_recording_sensor(PipelineConfig& cfg, const io::Sequence& seq, const RunArgs& a) {
-  if (!seq.sensor || !a.preset.empty() || io::config_file_sets(a.config_path, "sensor")) return;
+  if (!seq.sensor || !a.config.preset.empty() || io::config_file_sets(a.config.config_path, "sensor")) return;
   cfg.sensor = *seq.sensor;
   io::validate_config(cfg, "the sensor model of " + a.sequence);
   fmt::print("sensor model from the recording: {} ({} beams, {} columns, {:.1f} Hz, {:.1f} .. {:.1f} m)\n",
@@ -283,7 +261,7 @@ void take_recording_sensor(PipelineConfig& cfg, const io::Sequence& seq, const R
 void run(const RunArgs& a) {
   PipelineConfig cfg = make_config(a);
   cfg.input = apply_input_args(cfg.input, a.input);
-  io::Sequence seq = io::open_sequence(a.sequence, to_input_options(cfg.input));
+  io::Sequence seq = io::open_sequence(a.sequence, io::input_options(cfg.input));
   for (const auto& w : seq.warnings) fmt::print(stderr, "warning: {}\n", w);
   take_recording_sensor(cfg, seq, a);
   if (a.gt_frame == "lidar") seq.calib.reset();  // poses.txt is LiDAR-frame: Tr is not applied
@@ -299,7 +277,9 @@ void run(const RunArgs& a) {
   const std::size_t last =
       a.count < 0 ? seq.size() : std::min(seq.size(), first + static_cast<std::size_t>(a.count));
   if (io::sensor_needs_estimate(cfg)) cfg = estimate_sensor(a, cfg, seq, first, last);
-  const std::shared_ptr<MovingSegmenter> cnn = prepare_detector(cfg);
+  std::string note;
+  const std::shared_ptr<MovingSegmenter> cnn = run::prepare_detector(cfg, &note);
+  if (!note.empty()) fmt::print(stderr, "{}\n", note);
 
   // The sensor model must fit the data: judged on the first scan with enough points in range,
   // before the output folder is touched (a wrong --preset leaves nothing to clean up).
@@ -319,10 +299,11 @@ void run(const RunArgs& a) {
 
   const OutputDir out(a.out, a.sequence, a.overwrite);
   io::write_atomic(a.out + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(cfg); });
-  const bool labels_on = cfg.detection.detector != "none";
+  const bool labels_on = cfg.detection.detector != Detector::kNone;
 
   fmt::print("dloam run: {} scans of {} ({} preset, detector {}, de-skew {}) -> {}\n", last - first,
-             a.sequence, cfg.sensor.preset, cfg.detection.detector, cfg.deskew.enabled ? "on" : "off", a.out);
+             a.sequence, cfg.sensor.preset, name_of(cfg.detection.detector),
+             cfg.deskew.enabled ? "on" : "off", a.out);
   std::fflush(stdout);
   Pipeline pipeline(cfg, cnn);
   std::vector<ScanResult> results;
@@ -447,6 +428,7 @@ void run(const RunArgs& a) {
         fmt::format("{}: every scan after the first is degenerate (too few features to register): "
                     "the poses are only the predicted motion",
                     a.sequence));
+  if (a.report) write_html_report(a.out, a.out + "/report.html");
   if (stop.received()) {
     std::fflush(stdout);
     throw CLI::RuntimeError(128 + stop.received());  // as a shell reports a process ended by the signal
@@ -475,7 +457,7 @@ void register_run(CLI::App& app) {
       "A folder with the outputs of an earlier run is refused unless --overwrite; two runs cannot write\n"
       "into one folder at once. SIGINT, SIGTERM and SIGHUP stop after the current scan with complete files.\n"
       "Examples:\n"
-      "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config config/kitti-raw.yaml\n"
+      "  dloam run ../shared/data/kitti-raw-0005 --out out/0005 --config kitti-raw --report\n"
       "  dloam run sim/urban --out out/urban --preset HDL-64E --detector none --overwrite\n"
       "  dloam run my_vlp16_pcds --out out/mine --preset VLP-16 --first 100 --count 500\n"
       "  dloam run drive.bag --topic /velodyne_points --out out/drive --preset VLP-16\n"
@@ -490,13 +472,11 @@ void register_run(CLI::App& app) {
   add_input_options(cmd, args->input);
   cmd->add_option("--out,-o", args->out, "output folder")->required();
   cmd->add_flag("--overwrite", args->overwrite, "delete the outputs of an earlier run in --out first");
-  cmd->add_option("--config,-c", args->config_path, "YAML config (see `dloam config dump`)")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--preset", args->preset,
-                  "sensor preset: " + sensor_preset_list() +
-                      "; or auto: estimated from the first scans (see `dloam check --write-sensor`)");
-  cmd->add_option("--detector", args->detector, "dynamic-object detector: none, geometric or cnn")
-      ->check(CLI::IsMember({"none", "geometric", "cnn"}));
+  ConfigHelp config_help;
+  config_help.preset_auto = true;
+  add_config_options(cmd, args->config, config_help);
+  cmd->add_option("--detector", args->detector, "dynamic-object detector: " + enum_choices<Detector>(", "))
+      ->check(CLI::IsMember(enum_names_of<Detector>()));
   cmd->add_flag(
       "--drop-labelled-moving", args->drop_moving,
       "delete the points labels/ marks moving before the pipeline sees them: a perfect "
@@ -522,6 +502,7 @@ void register_run(CLI::App& app) {
       ->check(positive_number());
   cmd->add_option("--first", args->first, "first scan index")->check(integer_at_least(0));
   cmd->add_option("--count", args->count, "number of scans (default: all)")->check(integer_at_least(1));
+  cmd->add_flag("--report", args->report, "also write report.html (as `dloam report OUT`)");
   cmd->callback([args] { run(*args); });
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "config_args.hpp"
 #include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/kitti.hpp"
@@ -27,8 +28,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct SimulateArgs {
-  std::string scenario = "urban", out, preset = "HDL-64E", platform = "car";
-  std::string config;  ///< YAML whose sensor section is simulated (over the preset); empty: the preset
+  std::string scenario = "urban", out, platform = "car";
+  ConfigArgs config;  ///< the YAML whose sensor section is simulated (over the preset); empty: the preset
   sim::ScenarioParams params;
   double noise = 0.02, dropout = 0.01;
   bool overwrite = false;
@@ -116,7 +117,7 @@ json describe(const SimulateArgs& a, const sim::Simulator& sim, const Pose& firs
       {"terrain", {{"amplitude_m", w.ground.amplitude}, {"wavelength_m", w.ground.wavelength}}},
       {"sensor",
        {{"preset", s.preset},
-        {"config", a.config},
+        {"config", a.config.config_path},
         {"N_scan", s.N_scan},
         {"beam_vertical_offsets_m", s.beam_vertical_offsets_m},
         {"Horizon_SCAN", s.Horizon_SCAN},
@@ -189,7 +190,8 @@ void run(SimulateArgs a) {
     throw InputError(std::string("simulate: ") + e.what());
   }
   sim::LidarOptions lidar;
-  lidar.sensor = io::config_from(a.preset, a.config).sensor;  // the preset, then the file's sensor keys
+  lidar.sensor = io::config_from(a.config.preset, a.config.config_path)
+                     .sensor;  // the preset, then the file's sensor keys
   lidar.range_noise = a.noise;
   lidar.dropout = a.dropout;
   lidar.seed = a.params.seed;
@@ -274,11 +276,13 @@ void register_simulate(CLI::App& app) {
   cmd->add_option("--seed", args->params.seed, "Random seed; the same seed gives the same files")
       ->capture_default_str();
   cmd->add_option("--out", args->out, "Output sequence folder")->required();
-  cmd->add_option("--preset", args->preset, "Sensor: " + sensor_preset_list())->capture_default_str();
-  cmd->add_option("-c,--config", args->config,
-                  "YAML config whose sensor section is simulated over --preset: your own beam table, "
-                  "beam origin heights, range limits (e.g. config/kitti-raw.yaml)")
-      ->check(CLI::ExistingFile);
+  ConfigHelp config_help;
+  config_help.preset = "Sensor: {presets}";
+  config_help.preset_default = "HDL-64E";
+  config_help.config =
+      "YAML config (or shipped name) whose sensor section is simulated over --preset: your own beam table, "
+      "beam origin heights, range limits (e.g. kitti-raw)";
+  add_config_options(cmd, args->config, config_help);
   cmd->add_option("--density", args->params.density, "Static scene density (trees, poles, parked cars), 0-5")
       ->check(CLI::Range(0.0, 5.0))
       ->capture_default_str();
@@ -304,7 +308,7 @@ void register_simulate(CLI::App& app) {
       "  dloam simulate --scenario urban --frames 200 --seed 1 --out sim/urban\n"
       "  dloam simulate --scenario highway --frames 300 --traffic 2 --out sim/highway\n"
       "  dloam simulate --scenario loop --frames 1200 --preset HDL-32E --out sim/loop\n"
-      "  dloam simulate --scenario urban --frames 100 --config config/kitti-raw.yaml --out sim/kitti-like\n"
+      "  dloam simulate --scenario urban --frames 100 --config kitti-raw --out sim/kitti-like\n"
       "  dloam simulate --scenario urban --frames 50 --preset VLP-16 --speed 15 --noise 0 --out sim/fast\n"
       "  dloam simulate --scenario urban --platform handheld --frames 300 --out sim/handheld\n"
       "  dloam simulate --scenario highway --swerve --brake --frames 300 --out sim/highway-events\n"

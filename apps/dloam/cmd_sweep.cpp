@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "config_args.hpp"
 #include "dloam/cnn/cnn_segmenter.hpp"
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/atomic_file.hpp"
@@ -102,7 +103,7 @@ void run_sweep(const SweepArgs& a) {
     json row{{"detector", e.m < 0 ? "geometric" : "cnn"}, {"model", e.m < 0 ? "" : e.name}, {"m", e.m}};
     for (std::size_t q = 0; q < a.sequences.size(); ++q) {
       PipelineConfig cfg = cfgs[q];
-      cfg.detection.detector = e.m < 0 ? "geometric" : "cnn";
+      cfg.detection.detector = e.m < 0 ? Detector::kGeometric : Detector::kCnn;
       cfg.detection.m = std::max(e.m, 0);
       const eval::MosResult r =
           score(a.sequences[q], cfg, net, e.m < 0 ? "geometric" : fmt::format("m = {}", e.m));
@@ -155,8 +156,10 @@ void register_sweep(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--models", args->models, "CNN model files (comma-separated)")->required()->delimiter(',');
-  cmd->add_option("--config,-c", args->configs, "config per sequence (comma-separated; the last one repeats)")
-      ->delimiter(',');
+  cmd->add_option("--config,-c", args->configs,
+                  "config file or shipped name per sequence (comma-separated; the last one repeats)")
+      ->delimiter(',')
+      ->transform(config_file_validator());
   cmd->add_option("--out,-o", args->out, "folder for sweep.json and sweep.png");
   cmd->callback([args] { run_sweep(*args); });
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "config_args.hpp"
 #include "dloam/cnn/trainer.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "progress.hpp"
@@ -17,12 +18,12 @@ namespace {
 
 struct TrainArgs {
   std::vector<std::string> sequences;
-  std::string config_path, preset;
+  ConfigArgs config;
   cnn::TrainOptions options;
 };
 
 void run_train(const TrainArgs& a) {
-  const PipelineConfig cfg = io::config_from(a.preset, a.config_path);
+  const PipelineConfig cfg = io::config_from(a.config.preset, a.config.config_path);
   std::vector<cnn::MosSequence> data;
   std::size_t frames = 0;
   for (const std::string& dir : a.sequences) {
@@ -68,8 +69,10 @@ void register_train(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--out,-o", args->options.out, "model file (best epoch)")->required();
-  cmd->add_option("--config,-c", args->config_path, "YAML config (sensor model)");
-  cmd->add_option("--preset", args->preset, "sensor preset")->default_val("HDL-64E");
+  ConfigHelp config_help;
+  config_help.config = "YAML config or shipped name (its sensor model)";
+  config_help.preset_default = "HDL-64E";
+  add_config_options(cmd, args->config, config_help);
   cmd->add_option("--m", args->options.m, "speed images in the range image bag")
       ->check(CLI::Range(0, 12))
       ->capture_default_str();

@@ -14,6 +14,7 @@ void register_run(CLI::App& app);
 void register_clean(CLI::App& app);
 void register_calibrate(CLI::App& app);  ///< calibrate-beams
 void register_convert(CLI::App& app);
+void register_report(CLI::App& app);
 void register_train(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)
 void register_sweep(CLI::App& app);  ///< only with LibTorch (DLOAM_WITH_TORCH)
 

@@ -1,6 +1,8 @@
 // Recording options of the command line (see input_args.hpp).
 #include "input_args.hpp"
 
+#include "enum_option.hpp"
+
 namespace dloam::app {
 
 void add_input_options(CLI::App* cmd, InputArgs& a) {
@@ -13,7 +15,7 @@ void add_input_options(CLI::App* cmd, InputArgs& a) {
          "Ouster packets: the sensor metadata JSON (default: the .json of the same name beside the file)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--returns", a.returns, "multi-return packets: strongest, last, first or all")
-      ->check(CLI::IsMember({"strongest", "last", "first", "all"}));
+      ->check(CLI::IsMember(enum_names_of<ReturnMode>()));
   cmd->add_option("--cut-azimuth", a.cut_azimuth,
                   "raw packets: a scan ends where the azimuth crosses this (deg)")
       ->check(CLI::Range(0.0, 359.999999));
@@ -26,24 +28,10 @@ InputConfig apply_input_args(InputConfig c, const InputArgs& a) {
   if (!a.topic.empty()) c.topic = a.topic;
   if (!a.calibration.empty()) c.calibration = a.calibration;
   if (!a.metadata.empty()) c.metadata = a.metadata;
-  if (!a.returns.empty()) c.returns = a.returns;
+  if (!a.returns.empty()) c.returns = *enum_from_name<ReturnMode>(a.returns);  // checked by the parser
   if (a.cut_azimuth) c.cut_azimuth_deg = *a.cut_azimuth;
   if (a.port) c.port = *a.port;
   return c;
-}
-
-io::InputOptions to_input_options(const InputConfig& c) {
-  io::InputOptions o;
-  o.topic = c.topic;
-  o.calibration = c.calibration;
-  o.metadata = c.metadata;
-  o.scan.returns = c.returns == "last"    ? drivers::ReturnMode::kLast
-                   : c.returns == "first" ? drivers::ReturnMode::kFirst
-                   : c.returns == "all"   ? drivers::ReturnMode::kAll
-                                          : drivers::ReturnMode::kStrongest;
-  o.scan.cut_azimuth_deg = c.cut_azimuth_deg;
-  o.port = static_cast<std::uint16_t>(c.port);
-  return o;
 }
 
 }  // namespace dloam::app

@@ -7,7 +7,6 @@
 #include <optional>
 #include <string>
 
-#include "dloam/io/kitti.hpp"
 #include "dloam/pipeline/config.hpp"
 
 namespace dloam::app {
@@ -20,10 +19,8 @@ struct InputArgs {
 
 void add_input_options(CLI::App* cmd, InputArgs& args);
 
-/// The config's input section with the given options applied over it.
+/// The config's input section with the given options applied over it (io::input_options()
+/// turns it into what io::open_sequence() takes).
 InputConfig apply_input_args(InputConfig config, const InputArgs& args);
-
-/// What io::open_sequence() takes.
-io::InputOptions to_input_options(const InputConfig& config);
 
 }  // namespace dloam::app

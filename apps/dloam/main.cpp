@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   dloam::app::register_clean(app);
   dloam::app::register_calibrate(app);
   dloam::app::register_convert(app);
+  dloam::app::register_report(app);
 #ifdef DLOAM_WITH_TORCH
   dloam::app::register_train(app);
   dloam::app::register_sweep(app);

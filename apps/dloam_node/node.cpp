@@ -1,13 +1,6 @@
 // dloam_node callbacks and outputs (see node.hpp).
 #include "node.hpp"
 
-#include <filesystem>
-
-#include "dloam/io/atomic_file.hpp"
-#include "dloam/io/config_yaml.hpp"
-#include "dloam/io/kitti.hpp"
-#include "dloam/io/ply.hpp"
-#include "dloam/io/timing_csv.hpp"
 #include "dloam/ros/pointcloud2.hpp"
 
 #ifdef DLOAM_HAVE_NAV_MSGS
@@ -57,12 +50,15 @@ DloamNode::DloamNode(::ros::NodeHandle& nh, const NodeParams& params, const Pipe
   map_pub_ = nh.advertise<sensor_msgs::PointCloud2>("dloam/map", 1, /*latch=*/true);
   sub_ = nh.subscribe(params_.points_topic, static_cast<std::uint32_t>(std::max(1, params_.queue_size)),
                       &DloamNode::on_cloud, this);
-  if (!params_.out.empty() && config.detection.detector != "none")
-    std::filesystem::create_directories(params_.out + "/labels");
+  if (!params_.out.empty()) {
+    run::OutputOptions output;
+    output.dir = params_.out;
+    outputs_.emplace(output, pipeline_.config());
+  }
 }
 
 void DloamNode::on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
-  const std::size_t index = results_.size();
+  const std::size_t index = scans_;
   const std::string where = params_.points_topic + ", message " + std::to_string(index + bad_messages_);
   ScanResult r;
   PointCloud cloud;
@@ -86,19 +82,12 @@ void DloamNode::on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
     out.header = msg->header;
     labelled_pub_.publish(out);
   }
-  if (!params_.out.empty() && !r.labels.empty())
-    io::write_labels(params_.out + "/labels/" + io::scan_name(index) + ".label", r.labels);
   if (params_.map_every > 0 && (index + 1) % static_cast<std::size_t>(params_.map_every) == 0)
     publish_map(msg->header.stamp);
-  stamps_.push_back(msg->header.stamp.toSec());
-  r.n_edges = r.edge_features.size();
-  r.n_planes = r.plane_features.size();
-  r.labels = {};
-  r.edge_features = {};
-  r.plane_features = {};
-  r.map_points = {};
+  r.stamp = msg->header.stamp.toSec();  // poses_tum.txt: the header stamps
   ROS_DEBUG("dloam: scan %zu in %.1f ms", index, r.times[Module::kTotal]);
-  results_.push_back(std::move(r));
+  if (outputs_) outputs_->add(r, cloud);  // labels/, moving points, timing
+  ++scans_;
 }
 
 void DloamNode::publish_pose(const std_msgs::Header& header, const Pose& pose) {
@@ -141,18 +130,7 @@ void DloamNode::publish_map(const ::ros::Time& stamp) {
 }
 
 void DloamNode::write_outputs() {
-  if (params_.out.empty()) return;
-  const std::string& dir = params_.out;
-  io::write_atomic(dir + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(pipeline_.config()); });
-  const std::vector<Pose> poses = pipeline_.trajectory();  // mapping-refined, as `dloam run` writes
-  io::write_kitti_poses(dir + "/poses.txt", poses);
-  std::vector<io::StampedPose> tum;
-  for (std::size_t i = 0; i < poses.size() && i < stamps_.size(); ++i) tum.push_back({stamps_[i], poses[i]});
-  io::write_tum_poses(dir + "/poses_tum.txt", tum);
-  io::write_timing_csv(dir + "/timing.csv", results_);
-  PointCloud map;
-  map.xyz = pipeline_.global_map();
-  io::write_ply(dir + "/map.ply", map);
+  if (outputs_) outputs_->finish(pipeline_);  // the mapping-refined trajectory, as `dloam run` writes
 }
 
 }  // namespace dloam::node

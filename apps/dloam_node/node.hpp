@@ -7,10 +7,12 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dloam/pipeline/pipeline.hpp"
+#include "dloam/run/run_outputs.hpp"
 
 #ifdef DLOAM_HAVE_TF2_ROS
 #include <tf2_ros/transform_broadcaster.h>
@@ -34,10 +36,11 @@ class DloamNode {
  public:
   DloamNode(::ros::NodeHandle& nh, const NodeParams& params, const PipelineConfig& config,
             std::shared_ptr<MovingSegmenter> cnn = nullptr);
-  /// poses.txt (KITTI, sensor frame), poses_tum.txt (header stamps), map.ply, timing.csv and
-  /// config.yaml in params.out, as `dloam run` writes them (labels/ are written per scan).
+  /// The output folder of `dloam run` (run/run_outputs.hpp) in params.out: poses.txt (KITTI, sensor
+  /// frame), poses_tum.txt (header stamps), map.ply, moving.ply, timing.csv, config.yaml,
+  /// metrics.json (labels/ are written per scan).
   void write_outputs();
-  [[nodiscard]] std::size_t scans() const { return results_.size(); }
+  [[nodiscard]] std::size_t scans() const { return scans_; }
 
  private:
   void on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg);
@@ -51,8 +54,8 @@ class DloamNode {
 #ifdef DLOAM_HAVE_TF2_ROS
   tf2_ros::TransformBroadcaster tf_;
 #endif
-  std::vector<ScanResult> results_;  ///< timing only (per-point vectors cleared)
-  std::vector<double> stamps_;
+  std::optional<run::RunOutputs> outputs_;  ///< when params.out is given
+  std::size_t scans_ = 0;
   std::size_t bad_messages_ = 0;
 };
 

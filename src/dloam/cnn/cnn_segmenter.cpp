@@ -5,6 +5,7 @@
 
 #include "dloam/cnn/mos_net.hpp"
 #include "dloam/cnn/torch_util.hpp"
+#include "dloam/pipeline/detector_choice.hpp"
 
 namespace dloam::cnn {
 
@@ -46,22 +47,20 @@ std::string resolve_model_path(const DetectionConfig& detection, const std::stri
 std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir,
                                                   const SensorConfig& sensor, std::string* note) {
   const std::string path = resolve_model_path(detection, model_dir);
-  const bool have_model = std::filesystem::exists(path);
-  std::string mismatch;  // the model's training image size when it is not this sensor's
-  if ((detection.detector == "auto" || detection.detector == "cnn") && have_model) {
+  CnnModelInfo model;
+  model.path = path;
+  // An explicit cnn with a missing file goes on to the load, whose error names the file.
+  model.available = std::filesystem::exists(path) || detection.detector == Detector::kCnn;
+  if (std::filesystem::exists(path) && detection.detector != Detector::kNone &&
+      detection.detector != Detector::kGeometric) {
     const MosNetOptions o = read_mos_net_options(path);
-    if (o.trained_rows > 0 && (o.trained_rows != sensor.N_scan || o.trained_cols != sensor.Horizon_SCAN))
-      mismatch = path + " was trained on " + std::to_string(o.trained_rows) + " x " +
-                 std::to_string(o.trained_cols) + " range images, this sensor gives " +
-                 std::to_string(sensor.N_scan) + " x " + std::to_string(sensor.Horizon_SCAN);
+    model.trained_rows = o.trained_rows;
+    model.trained_cols = o.trained_cols;
   }
-  if (detection.detector == "auto") {
-    detection.detector = have_model && mismatch.empty() ? "cnn" : "geometric";
-    if (note && !mismatch.empty()) *note = mismatch + ": detector auto uses the geometric detector";
-  } else if (detection.detector == "cnn" && note && !mismatch.empty()) {
-    *note = "warning: " + mismatch + "; its moving-object segmentation may be poor";
-  }
-  if (detection.detector != "cnn") return nullptr;
+  const DetectorChoice choice = choose_detector(detection.detector, model, sensor);
+  detection.detector = choice.detector;
+  if (note) *note = choice.note;
+  if (detection.detector != Detector::kCnn) return nullptr;
   detection.model_path = path;
   return load_cnn_segmenter(detection.model_path, detection.threads, detection.m);
 }

@@ -19,13 +19,11 @@ std::unique_ptr<MovingSegmenter> load_cnn_segmenter(const std::string& model_pat
 /// detection.model_path, or `<model_dir>/mos_m<m>.pt` (the model shipped with dloam) when empty.
 std::string resolve_model_path(const DetectionConfig& detection, const std::string& model_dir);
 
-/// Front-end setup of the detector: resolves detector "auto" and an empty model_path (the shipped
-/// model) in `detection`, and loads the segmenter when the detector is cnn (null otherwise).
-/// "auto" is cnn when the model file exists and was trained on range images of this sensor's size
-/// (or does not record its training size), else geometric. `note` (if given) receives a line for
-/// the user when the model's training size differs from the sensor's: why "auto" chose the
-/// geometric detector, or a warning for an explicit cnn. Throws InputError for a missing or bad
-/// model file.
+/// Front-end setup of the detector: resolves detector auto (choose_detector, with the model file's
+/// training size) and an empty model_path (the shipped model) in `detection`, and loads the
+/// segmenter when the detector is cnn (null otherwise). `note` (if given) receives the choice's
+/// line for the user. Throws InputError for a missing or bad model file when cnn is asked for.
+/// Front-ends call dloam/run/detector_setup.hpp, which finds `model_dir` in the data folder.
 std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir,
                                                   const SensorConfig& sensor, std::string* note = nullptr);
 

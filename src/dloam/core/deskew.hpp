@@ -2,20 +2,28 @@
 // reference time of its sweep by the linearly interpolated inter-scan motion.
 #pragma once
 
-#include <string>
 #include <vector>
 
+#include "dloam/core/enum_names.hpp"
 #include "dloam/core/se3.hpp"
 #include "dloam/core/types.hpp"
 
 namespace dloam {
 
+/// Where the per-point times of the de-skew come from.
+enum class TimeSource {
+  kAuto,     ///< the data's per-point time channel when present, else from the azimuth
+  kAzimuth,  ///< always from the azimuth
+  kNone,     ///< no time, no de-skew
+};
+constexpr std::array<EnumName<TimeSource>, 3> enum_names(TimeSource) {
+  return {{{TimeSource::kAuto, "auto"}, {TimeSource::kAzimuth, "azimuth"}, {TimeSource::kNone, "none"}}};
+}
+
 /// III.D.2 Motion-distortion removal (eq. 12).
 struct DeskewConfig {
   bool enabled = true;
-  /// "auto": the data's per-point time channel when present, else from the azimuth.
-  /// "azimuth": always from the azimuth. "none": no time, no de-skew.
-  std::string time_source = "auto";
+  TimeSource time_source = TimeSource::kAuto;
   /// The step between two scan poses is the mean velocity between their reference times, half an
   /// interval before this sweep's: extrapolate it to the sweep's reference time with the velocity
   /// change since the step before (constant acceleration), as a turning handheld scanner needs.

@@ -10,16 +10,30 @@
 #include <string>
 #include <vector>
 
+#include "dloam/core/enum_names.hpp"
 #include "dloam/core/segmentation.hpp"
 #include "dloam/core/speed_matrix.hpp"
 
 namespace dloam {
 
+/// The moving-object detector of a run.
+enum class Detector {
+  kNone,       ///< no detector (the LeGO-LOAM-style baseline)
+  kGeometric,  ///< the two-frame detector (III.D.3.a)
+  kCnn,        ///< the multi-frame CNN (III.D.3.b)
+  kAuto,       ///< the CNN when a model fits the sensor, else geometric (pipeline/detector_choice.hpp)
+};
+constexpr std::array<EnumName<Detector>, 4> enum_names(Detector) {
+  return {{{Detector::kNone, "none"},
+           {Detector::kGeometric, "geometric"},
+           {Detector::kCnn, "cnn"},
+           {Detector::kAuto, "auto"}}};
+}
+
 /// III.D.3 Dynamic-object detection.
 struct DetectionConfig {
-  /// none | geometric | cnn | auto. auto: the CNN when its model file exists (front-ends resolve it
-  /// before the run; a Pipeline given no segmenter uses the geometric detector), else geometric.
-  std::string detector = "auto";
+  /// none | geometric | cnn | auto. auto is resolved before the run (choose_detector).
+  Detector detector = Detector::kAuto;
   /// Speeds are eq. 13's range differences after registration and de-skew, divided by the time
   /// between the two scans (m/s): a pixel's threshold in metres is v * dt. The paper's 0.03 / 0.01
   /// m/s (3 / 1 mm at 10 Hz) lie far below the sensor's 2 cm range noise and the de-skew /

@@ -5,9 +5,24 @@
 #include <string>
 #include <vector>
 
+#include "dloam/core/enum_names.hpp"
 #include "dloam/core/types.hpp"
 
 namespace dloam {
+
+/// Which returns of a multi-return sensor are kept.
+enum class ReturnMode {
+  kStrongest,  ///< the strongest (a single-return stream: its only return)
+  kLast,       ///< the last
+  kFirst,      ///< the first (where the sensor reports it)
+  kAll,        ///< every distinct return
+};
+constexpr std::array<EnumName<ReturnMode>, 4> enum_names(ReturnMode) {
+  return {{{ReturnMode::kStrongest, "strongest"},
+           {ReturnMode::kLast, "last"},
+           {ReturnMode::kFirst, "first"},
+           {ReturnMode::kAll, "all"}}};
+}
 
 struct SensorConfig {
   std::string preset = "HDL-64E";

@@ -28,13 +28,8 @@ struct Packet {
   std::string where;
 };
 
-/// Which returns of a multi-return sensor are kept.
-enum class ReturnMode {
-  kStrongest,  ///< the strongest (a single-return stream: its only return)
-  kLast,       ///< the last
-  kFirst,      ///< the first (where the sensor reports it)
-  kAll,        ///< every distinct return
-};
+/// Which returns of a multi-return sensor are kept (declared with the sensor model).
+using ReturnMode = dloam::ReturnMode;
 
 struct ScannerOptions {
   ReturnMode returns = ReturnMode::kStrongest;

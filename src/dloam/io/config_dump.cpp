@@ -4,6 +4,7 @@
 #include <charconv>
 #include <sstream>
 #include <string_view>
+#include <type_traits>
 
 #include "dloam/core/types.hpp"
 #include "dloam/io/config_schema.hpp"
@@ -52,6 +53,10 @@ std::string value(bool v) { return v ? "true" : "false"; }
 std::string value(int v) { return std::to_string(v); }
 std::string value(double v) { return number(v); }
 std::string value(const std::string& v) { return text(v); }
+template <class E, std::enable_if_t<std::is_enum_v<E>, int> = 0>
+std::string value(E v) {
+  return std::string(name_of(v));
+}
 std::string value(const std::vector<double>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + number(v[i]);

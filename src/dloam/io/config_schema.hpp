@@ -24,6 +24,8 @@ inline Range above(double lo) { return {lo, kInf, true, false}; }
 inline Range within(double lo, double hi) { return {lo, hi, false, false}; }
 /// Allowed values of a string; empty = any.
 using Choices = std::vector<std::string>;
+/// An enumeration field: written and read by the names of its table (core/enum_names.hpp).
+struct Named {};
 /// Smallest voxel size (m) of any downsampling: the voxel keys are 32-bit integers per axis.
 inline constexpr double kMinLeafSize = 0.001;
 /// Farthest range (m) a sensor model may keep: no LiDAR measures beyond it.
@@ -37,8 +39,7 @@ void visit(InputConfig& c, V& v) {
     "Velodyne calibration YAML / Hesai angle CSV; empty: the model's nominal table", Choices{});
   v("metadata", c.metadata,
     "Ouster sensor metadata JSON; empty: the .json of the same name beside the recording", Choices{});
-  v("returns", c.returns, "returns kept from multi-return packets: strongest | last | first | all",
-    Choices{"strongest", "last", "first", "all"});
+  v("returns", c.returns, "returns kept from multi-return packets: strongest | last | first | all", Named{});
   v("cut_azimuth_deg", c.cut_azimuth_deg,
     "a scan ends where the azimuth crosses this angle (deg, sensor's own)", Range{0, 360, false, true});
   v("port", c.port, "pcap: UDP destination port of the data; 0: the port of the first data packet",
@@ -116,8 +117,7 @@ void visit(MotionConfig& c, V& v) {
 template <class V>
 void visit(DeskewConfig& c, V& v) {
   v("enabled", c.enabled, "de-skew by interpolating T_coarse over the sweep (eq. 12)", Range{});
-  v("time_source", c.time_source, "t_i: auto (data's time, else azimuth) | azimuth | none",
-    Choices{"auto", "azimuth", "none"});
+  v("time_source", c.time_source, "t_i: auto (data's time, else azimuth) | azimuth | none", Named{});
   v("acceleration", c.acceleration,
     "extrapolate the step's velocity to the sweep's reference time with the last velocity change", Range{});
 }
@@ -127,7 +127,7 @@ void visit(DetectionConfig& c, V& v) {
   v("detector", c.detector,
     "dynamic-object detector: none | geometric | cnn | auto (cnn if the model exists and fits the sensor, "
     "else geometric)",
-    Choices{"none", "geometric", "cnn", "auto"});
+    Named{});
   v("v_static", c.v_static, "m/s: static if the range speed |r_k - r_k-1| / dt (eq. 13) is below this",
     at_least(0));
   v("v_ground", c.v_ground, "m/s: ground re-verification speed threshold (eq. 13)", at_least(0));

@@ -5,6 +5,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <type_traits>
@@ -80,6 +81,14 @@ struct Loader {
   }
   void read(const YAML::Node& n, std::string& v, const std::string& p) const {
     v = n.IsNull() ? std::string() : scalar<std::string>(n, p, "a string");
+  }
+  template <class E, std::enable_if_t<std::is_enum_v<E>, int> = 0>
+  void read(const YAML::Node& n, E& v, const std::string& p) const {
+    const std::string expected = "one of " + enum_choices<E>();
+    const auto name = scalar<std::string>(n, p, expected.c_str());
+    const std::optional<E> value = enum_from_name<E>(name);
+    if (!value) fail(n, p, "'" + name + "' must be " + expected);
+    v = *value;
   }
   void read(const YAML::Node& n, std::vector<double>& v, const std::string& p) const {
     v.clear();
@@ -209,6 +218,8 @@ struct Validator {
   void operator()(const char* key, int v, const char*, const Range& r) const { check(key, v, r); }
   void operator()(const char* key, double v, const char*, const Range& r) const { check(key, v, r); }
   void operator()(const char*, bool, const char*, const Range&) const {}
+  template <class E>
+  void operator()(const char*, E, const char*, const detail::Named&) const {}  // valid by its type
   void operator()(const char* key, const std::vector<double>& v, const char*, const Range& r) const {
     for (double x : v) check(key, x, r);
   }

@@ -24,9 +24,9 @@ struct InputConfig {
   std::string topic;        ///< bag topic; empty: the only PointCloud2 topic, else the only packet topic
   std::string calibration;  ///< Velodyne calibration YAML / Hesai angle CSV; empty: nominal tables
   std::string metadata;     ///< Ouster sensor JSON; empty: the .json of the same name beside the recording
-  std::string returns = "strongest";  ///< strongest | last | first | all
-  double cut_azimuth_deg = 0.0;       ///< a scan ends where the azimuth crosses this (sensor's convention)
-  int port = 0;                       ///< pcap: UDP port of the data; 0: the first data packet's
+  ReturnMode returns = ReturnMode::kStrongest;  ///< strongest | last | first | all
+  double cut_azimuth_deg = 0.0;  ///< a scan ends where the azimuth crosses this (sensor's convention)
+  int port = 0;                  ///< pcap: UDP port of the data; 0: the first data packet's
 };
 
 /// Every module's configuration (each declared beside its module in core/), one YAML section each.

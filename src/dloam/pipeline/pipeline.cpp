@@ -12,6 +12,7 @@
 #include "dloam/core/segmentation.hpp"
 #include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
+#include "dloam/pipeline/detector_choice.hpp"
 
 namespace dloam {
 
@@ -63,14 +64,13 @@ Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter
       mapper_(config.mapping, config.sensor.scan_rate_hz),
       motion_(config.motion) {
   config_.sensor.validate();
-  if (config_.detection.detector == "auto") config_.detection.detector = cnn ? "cnn" : "geometric";
-  if (config_.detection.detector == "cnn") {
-    if (!cnn)
-      throw std::invalid_argument(
-          "detection.detector is cnn but no model was loaded (detection.model_path; a build with LibTorch)");
+  CnnModelInfo given;  // a segmenter handed over is taken to fit the sensor
+  given.available = cnn != nullptr;
+  given.missing_reason = "none was given to the Pipeline: dloam/run/detector_setup.hpp loads it";
+  config_.detection.detector = choose_detector(config_.detection.detector, given, config_.sensor).detector;
+  if (config_.detection.detector == Detector::kCnn)
     dynamic_ = std::make_unique<DynamicStage>(config_, std::move(cnn));
-  }
-  if (config_.detection.detector == "geometric") dynamic_ = std::make_unique<DynamicStage>(config_);
+  if (config_.detection.detector == Detector::kGeometric) dynamic_ = std::make_unique<DynamicStage>(config_);
   if (config_.mapping.latency_scans < 0 || config_.mapping.latency_scans > config_.mapping.every_n_scans)
     throw std::invalid_argument("mapping.latency_scans must be in [0, mapping.every_n_scans]");
 }
@@ -192,8 +192,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     ScopedTimer t(out.times, Module::kDeskew);
     points = cloud.xyz;
     correct_vertical_angle(points, config_.sensor.vertical_angle_correction_deg);
-    if (config_.deskew.enabled && config_.deskew.time_source != "none")
-      times = point_times(cloud, config_.deskew.time_source == "auto");  // scan 0: de-skewed at scan 1
+    if (config_.deskew.enabled && config_.deskew.time_source != TimeSource::kNone)
+      times = point_times(cloud, config_.deskew.time_source == TimeSource::kAuto);  // scan 0: at scan 1
     if (!times.empty() || dynamic_) raw = points;
     if (count_ > 0 && !times.empty()) points = deskew(points, times, interval.sweep_motion(predicted));
   }

@@ -57,8 +57,9 @@ struct ScanResult {
 
 class Pipeline {
  public:
-  /// `cnn`: the learned moving-object segmenter, required when detection.detector is "cnn"
-  /// (front-ends load it with dloam/cnn/cnn_segmenter.hpp).
+  /// `cnn`: the learned moving-object segmenter, required when detection.detector is cnn
+  /// (dloam/run/detector_setup.hpp resolves auto and loads it); auto is resolved with
+  /// choose_detector (a segmenter given counts as fitting the sensor).
   explicit Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn = nullptr);
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;  // a mapping job may hold `this`

@@ -1,0 +1,108 @@
+#include "dloam/run/run_outputs.hpp"
+
+#include <filesystem>
+
+#include "dloam/core/voxel_grid.hpp"
+#include "dloam/io/atomic_file.hpp"
+#include "dloam/io/config_yaml.hpp"
+#include "dloam/io/kitti.hpp"
+#include "dloam/io/ply.hpp"
+#include "dloam/io/timing_csv.hpp"
+
+namespace dloam::run {
+
+namespace fs = std::filesystem;
+
+RunOutputs::RunOutputs(OutputOptions options, const PipelineConfig& config) : options_(std::move(options)) {
+  if (config.detection.detector == Detector::kAuto)
+    throw std::invalid_argument("RunOutputs: resolve detection.detector first (run::prepare_detector)");
+  labels_on_ = options_.labels && config.detection.detector != Detector::kNone;
+  fs::create_directories(options_.dir);
+  if (labels_on_) fs::create_directories(options_.dir + "/labels");
+  io::write_atomic(options_.dir + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(config); });
+  if (options_.camera_Tr) {
+    io::Calib calib;
+    calib.Tr = *options_.camera_Tr;
+    calib.has_Tr = true;
+    std::vector<double> tr;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) tr.push_back(calib.Tr.matrix()(r, c));
+    calib.entries.emplace_back("Tr", tr);
+    io::write_calib(options_.dir + "/calib.txt", calib);
+  }
+}
+
+void RunOutputs::add(const ScanResult& r, const PointCloud& cloud, const std::vector<Label>* gt) {
+  if (labels_on_) io::write_labels(options_.dir + "/labels/" + io::scan_name(r.index) + ".label", r.labels);
+  std::vector<Vec3> moving;
+  for (std::size_t i = 0; i < r.labels.size() && i < cloud.size(); ++i)
+    if (semantic::is_moving(r.labels[i])) moving.push_back(cloud.xyz[i]);
+  moving_.push_back(voxel_downsample_points(moving, options_.moving_leaf_size));
+  if (gt) {
+    if (!label_stats_) label_stats_.emplace();
+    label_stats_->add(*gt, r);
+  }
+  ScanResult kept = r;  // what timing.csv and the tracking summary need
+  kept.n_edges = r.edge_features.size();
+  kept.n_planes = r.plane_features.size();
+  kept.labels = {};
+  kept.edge_features = {};
+  kept.plane_features = {};
+  kept.map_points = {};
+  results_.push_back(std::move(kept));
+}
+
+std::vector<Pose> RunOutputs::in_output_frame(const std::vector<Pose>& lidar_poses) const {
+  return options_.camera_Tr ? io::lidar_to_camera(lidar_poses, *options_.camera_Tr) : lidar_poses;
+}
+
+void RunOutputs::write_poses(const std::vector<Pose>& lidar_poses) const {
+  const std::vector<Pose> poses = in_output_frame(lidar_poses);
+  io::write_kitti_poses(options_.dir + "/poses.txt", poses);
+  std::vector<io::StampedPose> tum;
+  for (std::size_t i = 0; i < poses.size() && i < results_.size(); ++i)
+    tum.push_back({results_[i].stamp, poses[i]});
+  io::write_tum_poses(options_.dir + "/poses_tum.txt", tum);
+}
+
+RunSummary RunOutputs::finish(Pipeline& pipeline, const std::vector<Pose>* gt_lidar_poses) {
+  RunSummary s;
+  s.scans = results_.size();
+  s.results = results_;
+  s.trajectory = pipeline.trajectory();  // mapping-refined; loop closures move earlier scans too
+  write_poses(s.trajectory);
+  io::write_timing_csv(options_.dir + "/timing.csv", results_);
+  PointCloud map;
+  map.xyz = pipeline.global_map();
+  s.map_points = map.size();
+  io::write_ply(options_.dir + "/map.ply", map);
+  PointCloud moving;
+  for (std::size_t i = 0; i < moving_.size() && i < s.trajectory.size(); ++i)
+    for (const Vec3& p : moving_[i]) moving.xyz.push_back(s.trajectory[i] * p);
+  s.moving_points = moving.size();
+  io::write_ply(options_.dir + "/moving.ply", moving);
+  s.loop_closures = pipeline.loop_closures();
+
+  nlohmann::json& j = s.metrics;
+  j = nlohmann::json::object();
+  if (gt_lidar_poses && !s.trajectory.empty()) {
+    if (gt_lidar_poses->size() != s.trajectory.size())
+      throw std::invalid_argument("RunOutputs::finish: " + std::to_string(gt_lidar_poses->size()) +
+                                  " ground-truth poses for " + std::to_string(s.trajectory.size()) +
+                                  " scans");
+    io::write_kitti_poses(options_.dir + "/poses_gt.txt", in_output_frame(*gt_lidar_poses));
+    s.segments = segment_options(*gt_lidar_poses, options_.lengths);
+    s.odometry = eval::evaluate_odometry(*gt_lidar_poses, s.trajectory, s.segments);
+    j["odometry"] = odometry_json(*s.odometry, s.segments, "lidar");
+  }
+  if (label_stats_ && !results_.empty()) {
+    s.labels = label_stats_;
+    j.update(label_stats_->json());
+  }
+  j["tracking"] = tracking_json(results_);
+  j["loop_closures"] = s.loop_closures;
+  io::write_atomic(options_.dir + "/metrics.json", [&](std::ostream& o) { o << j.dump(2) << '\n'; });
+  return s;
+}
+
+}  // namespace dloam::run

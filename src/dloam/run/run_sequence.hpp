@@ -1,0 +1,52 @@
+// A whole run of the pipeline over a sequence (a folder or a recording, io::open_sequence), written
+// to an output folder (run_outputs.hpp): what `dloam run` and the Python module's run() do.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dloam/core/moving_segmenter.hpp"
+#include "dloam/io/kitti.hpp"
+#include "dloam/pipeline/pipeline.hpp"
+#include "dloam/run/run_outputs.hpp"
+
+namespace dloam::run {
+
+struct RunOptions {
+  std::string out;  ///< output folder
+  std::size_t first = 0;
+  std::optional<std::size_t> count;  ///< scans from `first`; empty: to the end
+  /// Delete the points the ground-truth labels mark moving before the pipeline sees them (a perfect
+  /// detector's reference); the written labels mark them moving. Needs labels/.
+  bool drop_labelled_moving = false;
+  std::vector<double> lengths;  ///< segment lengths of metrics.json
+  /// Called after each scan with the number done and the total (progress display).
+  std::function<void(std::size_t done, std::size_t total, const ScanResult& result)> on_scan;
+  /// Checked before each scan: when set, the run stops and still writes complete outputs.
+  const std::atomic<bool>* stop = nullptr;
+};
+
+struct SequenceRun {
+  RunSummary summary;
+  bool stopped = false;  ///< `stop` ended the run early
+};
+
+/// Runs scans [first, first + count) of `sequence` through a Pipeline of `config` (its detector
+/// resolved: prepare_detector; `cnn` the segmenter it returned) and writes the output folder:
+/// poses in the frame of the input's poses.txt (camera frame when calib.txt has Tr), metrics
+/// against its ground truth when it has poses / labels. Throws InputError for a first scan out
+/// of range, missing labels for drop_labelled_moving, or a first scan that mostly misses the
+/// sensor model's field of view (the wrong sensor model).
+SequenceRun run_sequence(const io::Sequence& sequence, const PipelineConfig& config,
+                         std::shared_ptr<MovingSegmenter> cnn, const RunOptions& options);
+
+/// A scan whose points mostly miss the sensor model's vertical field of view means the wrong
+/// sensor model (beam count / angles): throws InputError naming `file` and the model.
+void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, const std::string& file);
+
+}  // namespace dloam::run
