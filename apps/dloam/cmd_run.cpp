@@ -18,7 +18,9 @@
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/input_options.hpp"
 #include "dloam/io/kitti.hpp"
+#include "dloam/io/ply.hpp"
 #include "dloam/io/sensor_estimate.hpp"
+#include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
 #include "dloam/run/detector_setup.hpp"
 #include "dloam/run/metrics.hpp"
@@ -65,39 +67,20 @@ nlohmann::json read_metrics(const std::string& path) {
   return nlohmann::json::parse(io::read_file(path, io::kMaxConfigFileBytes));
 }
 
-/// Ground-truth label statistics of a run (sequence with labels/): Table III's effective-feature
-/// ratio, and the fraction of the points added to the global map (before its voxel downsampling)
-/// that the ground truth labels moving (ghost points).
-struct LabelStats {
-  eval::FeatureCounts features;
-  std::uint64_t map_points = 0, map_moving = 0;
-  void add(const std::vector<Label>& gt, const ScanResult& r) {
-    std::vector<std::size_t> idx = r.edge_features;
-    idx.insert(idx.end(), r.plane_features.begin(), r.plane_features.end());
-    features += eval::count_effective_features(gt, idx);
-    for (std::size_t i : r.map_points) {
-      if (semantic::is_ignored(gt[i])) continue;
-      ++map_points;
-      map_moving += semantic::is_moving(gt[i]);
-    }
-  }
-  void write(const std::string& path) const {
-    nlohmann::json j = read_metrics(path);
-    j["effective_feature_ratio"] = features.ratio();
-    j["features_on_labelled_points"] = features.total;
-    j["map_input_moving_fraction"] = map_points ? static_cast<double>(map_moving) / map_points : 0.0;
-    io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
-    if (features.total == 0 || map_points == 0) {
-      fmt::print("effective features (Table III): {}; moving points sent to the map: {}\n",
-                 features.total ? fmt::format("{:.2f} % of {}", 100.0 * features.ratio(), features.total)
-                                : "none on labelled points",
-                 map_points ? fmt::format("{:.3f} %", 100.0 * map_moving / map_points) : "no point sent");
-      return;
-    }
-    fmt::print("effective features (Table III): {:.2f} % of {}; moving points sent to the map: {:.3f} %\n",
-               100.0 * features.ratio(), features.total, 100.0 * map_moving / map_points);
-  }
-};
+/// The ground-truth label statistics into metrics.json (Table III's effective features, the moving
+/// share of the points sent to the map, MOS when a detector wrote labels), and on the terminal.
+void write_label_stats(const run::LabelStats& stats, const std::string& path) {
+  nlohmann::json j = read_metrics(path);
+  j.update(stats.json());
+  io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
+  fmt::print(
+      "effective features (Table III): {}; moving points sent to the map: {}\n",
+      stats.features.total
+          ? fmt::format("{:.2f} % of {}", 100.0 * stats.features.ratio(), stats.features.total)
+          : "none on labelled points",
+      stats.map_points ? fmt::format("{:.3f} %", 100.0 * stats.map_moving_fraction()) : "no point sent");
+  if (stats.detector) print_mos(stats.mos);
+}
 
 /// The scan without the points the ground truth labels moving (--drop-labelled-moving): what a
 /// perfect detector would leave. `kept`: input index of each remaining point.
@@ -309,7 +292,7 @@ void run(const RunArgs& a) {
   std::vector<ScanResult> results;
   std::vector<Pose> poses;
   Progress progress("run", last - first);
-  LabelStats label_stats;
+  run::LabelStats label_stats;
   DegenerateScans degenerate;
   std::string failure;  // the error that stopped the run, if one did
   const StopSignals stop;
@@ -409,7 +392,7 @@ void run(const RunArgs& a) {
                                gt_all.begin() + static_cast<long>(first + poses.size()));
     write_odometry_metrics(a.out + "/metrics.json", gt, poses, a.lengths);
   }
-  if (seq.has_labels() && !results.empty()) label_stats.write(a.out + "/metrics.json");
+  if (seq.has_labels() && !results.empty()) write_label_stats(label_stats, a.out + "/metrics.json");
   merge_tracking_summary(a.out + "/metrics.json", results);
   nlohmann::json metrics = read_metrics(a.out + "/metrics.json");
   metrics["scans"] = degenerate.json();

@@ -100,7 +100,8 @@ std::vector<std::string> shipped_configs() {
 
 std::string resolve_config_file(const std::string& name_or_path) {
   std::error_code ec;
-  if (fs::is_regular_file(name_or_path, ec)) return name_or_path;
+  // Anything at the path (a folder, a FIFO, a device) is the user's file: the reader refuses it by kind.
+  if (fs::exists(fs::symlink_status(name_or_path, ec))) return name_or_path;
   const auto dir = find_data_dir();
   // A name, not a path: look for it among the shipped configurations.
   if (dir && fs::path(name_or_path).filename() == fs::path(name_or_path)) {
