@@ -317,12 +317,14 @@ void run(const RunArgs& a) {
         io::write_labels(fmt::format("{}/labels/{}.label", a.out, seq.output_name(i)),
                          file_labels(r.labels, info));
       poses.push_back(r.pose);
-      r.labels = {};  // keep only what timing.csv needs
+      // Keep only what timing.csv needs; swapping with empty vectors frees the memory (assigning {}
+      // keeps the capacity: about 1 MB a scan on a 64-beam drive).
+      std::vector<Label>().swap(r.labels);
       r.n_edges = r.edge_features.size();
       r.n_planes = r.plane_features.size();
-      r.edge_features = {};
-      r.plane_features = {};
-      r.map_points = {};
+      std::vector<std::size_t>().swap(r.edge_features);
+      std::vector<std::size_t>().swap(r.plane_features);
+      std::vector<std::size_t>().swap(r.map_points);
       degenerate.dropped_points += info.dropped();
       degenerate.add(r, DegenerateScans::usable_points(cloud, cfg.sensor), seq.scan_files[i], i == first);
       results.push_back(std::move(r));

@@ -29,10 +29,10 @@ struct Result {
     labels = to_numpy(std::move(r.labels));
     edge_features = to_numpy(std::move(r.edge_features));
     plane_features = to_numpy(std::move(r.plane_features));
-    r.labels = {};
-    r.edge_features = {};
-    r.plane_features = {};
-    r.map_points = {};
+    std::vector<Label>().swap(r.labels);  // frees the memory (= {} keeps the capacity)
+    std::vector<std::size_t>().swap(r.edge_features);
+    std::vector<std::size_t>().swap(r.plane_features);
+    std::vector<std::size_t>().swap(r.map_points);
   }
 };
 

@@ -76,8 +76,8 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
     const CoarseResult refined = coarse_motion(objects, *previous_objects_, c.T, pre, nullptr);
     if (refined.valid) c = refined;
   }
-  first_raw_ = {};
-  first_times_ = {};
+  std::vector<Vec3>().swap(first_raw_);
+  std::vector<double>().swap(first_times_);
   first_seg_.reset();
   return c;
 }

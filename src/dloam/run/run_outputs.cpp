@@ -45,10 +45,10 @@ void RunOutputs::add(const ScanResult& r, const PointCloud& cloud, const std::ve
   ScanResult kept = r;  // what timing.csv and the tracking summary need
   kept.n_edges = r.edge_features.size();
   kept.n_planes = r.plane_features.size();
-  kept.labels = {};
-  kept.edge_features = {};
-  kept.plane_features = {};
-  kept.map_points = {};
+  std::vector<Label>().swap(kept.labels);  // frees the memory (= {} keeps the capacity)
+  std::vector<std::size_t>().swap(kept.edge_features);
+  std::vector<std::size_t>().swap(kept.plane_features);
+  std::vector<std::size_t>().swap(kept.map_points);
   results_.push_back(std::move(kept));
 }
 
