@@ -24,6 +24,7 @@
 #include "dloam/pipeline/pipeline.hpp"
 #include "dloam/run/detector_setup.hpp"
 #include "dloam/run/metrics.hpp"
+#include "dloam/run/run_sequence.hpp"
 #include "enum_option.hpp"
 #include "html_report.hpp"
 #include "input_args.hpp"
@@ -80,32 +81,6 @@ void write_label_stats(const run::LabelStats& stats, const std::string& path) {
           : "none on labelled points",
       stats.map_points ? fmt::format("{:.3f} %", 100.0 * stats.map_moving_fraction()) : "no point sent");
   if (stats.detector) print_mos(stats.mos);
-}
-
-/// The scan without the points the ground truth labels moving (--drop-labelled-moving): what a
-/// perfect detector would leave. `kept`: input index of each remaining point.
-PointCloud without_moving(const PointCloud& cloud, const std::vector<Label>& gt,
-                          std::vector<std::size_t>& kept) {
-  PointCloud out;
-  kept.clear();
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (semantic::is_moving(gt[i])) continue;
-    kept.push_back(i);
-    out.xyz.push_back(cloud.xyz[i]);
-    if (cloud.has_intensity()) out.intensity.push_back(cloud.intensity[i]);
-    if (cloud.has_time()) out.time.push_back(cloud.time[i]);
-  }
-  return out;
-}
-
-/// A result of the reduced scan in the input's point indices; the dropped points are moving.
-void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::size_t input_size) {
-  for (auto* idx : {&r.edge_features, &r.plane_features, &r.map_points})
-    for (std::size_t& i : *idx) i = kept[i];
-  if (r.labels.empty()) return;
-  std::vector<Label> labels(input_size, semantic::kMovingGeneric);
-  for (std::size_t j = 0; j < kept.size(); ++j) labels[kept[j]] = r.labels[j];
-  r.labels = std::move(labels);
 }
 
 void write_trajectories(const std::string& dir, const io::Sequence& seq,
@@ -309,8 +284,8 @@ void run(const RunArgs& a) {
       const std::vector<Label> gt =
           seq.has_labels() ? seq.read_scan_labels(i, cloud.size(), &info) : std::vector<Label>{};
       std::vector<std::size_t> kept;
-      ScanResult r = pipeline.process(a.drop_moving ? without_moving(cloud, gt, kept) : cloud);
-      if (a.drop_moving) restore_indices(r, kept, cloud.size());
+      ScanResult r = pipeline.process(a.drop_moving ? run::without_moving(cloud, gt, kept) : cloud);
+      if (a.drop_moving) run::restore_indices(r, kept, cloud.size());
       r.index = i;
       if (seq.has_labels()) label_stats.add(gt, r);
       if (labels_on)

@@ -8,7 +8,7 @@
 
 namespace dloam::run {
 
-namespace {
+namespace {}  // namespace
 
 /// The scan without the points the ground truth labels moving: what a perfect detector would
 /// leave. `kept`: input index of each remaining point.
@@ -36,8 +36,6 @@ void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::s
   for (std::size_t j = 0; j < kept.size(); ++j) labels[kept[j]] = r.labels[j];
   r.labels = std::move(labels);
 }
-
-}  // namespace
 
 void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, const std::string& file) {
   std::size_t inside = 0, in_range = 0;

@@ -49,4 +49,11 @@ SequenceRun run_sequence(const io::Sequence& sequence, const PipelineConfig& con
 /// sensor model (beam count / angles): throws InputError naming `file` and the model.
 void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, const std::string& file);
 
+/// The scan without the points the ground truth labels moving (a perfect detector's input, for
+/// studies); `kept`: the input index of each remaining point.
+PointCloud without_moving(const PointCloud& cloud, const std::vector<Label>& gt,
+                          std::vector<std::size_t>& kept);
+/// A result of the reduced scan in the input's point indices; the dropped points are labelled moving.
+void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::size_t input_size);
+
 }  // namespace dloam::run
