@@ -8,8 +8,6 @@
 
 namespace dloam::run {
 
-namespace {}  // namespace
-
 /// The scan without the points the ground truth labels moving: what a perfect detector would
 /// leave. `kept`: input index of each remaining point.
 PointCloud without_moving(const PointCloud& cloud, const std::vector<Label>& gt,
