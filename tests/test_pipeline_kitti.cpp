@@ -59,8 +59,8 @@ TEST(PipelineKitti, AccurateOnTheRealDrive) {
   const auto m = evaluate(r.gt, r.poses);
   std::printf("kitti-raw-0005: t_rel %.3f %%, r_rel %.3f deg/100m, ATE %.3f m (aligned %.3f m)\n",
               m.relative.t_rel_pct, m.relative.r_rel_deg100m, m.ate.rmse, m.ate_aligned.rmse);
-  // Issue #3's acceptance is 1.5 % / 0.2 m; the pipeline measures 0.2 % / 0.04 m, so these bounds
-  // also catch a regression well before it would break the acceptance.
+  // The accuracy target is 1.5 % / 0.2 m; the pipeline measures 0.2 % / 0.04 m, so these bounds
+  // also catch a regression well before it would miss the target.
   EXPECT_LT(m.relative.t_rel_pct, 0.5);
   EXPECT_LT(m.ate.rmse, 0.1);
   EXPECT_GT(m.relative.segments.size(), 200u);
@@ -81,7 +81,7 @@ TEST(PipelineKitti, MappingAt2HzOnTheWorkerThreadStaysAccurate) {
   std::printf("2 Hz mapping: t_rel %.3f %%, ATE %.3f m; real-time t_rel %.3f %%, ATE %.3f m\n",
               m.relative.t_rel_pct, m.ate.rmse, rt.relative.t_rel_pct, rt.ate.rmse);
   // Measured 0.55 % / 0.07 m (refined) and 0.98 % / 0.16 m (real time): fewer scan-to-map
-  // corrections than at 10 Hz (0.18 % / 0.03 m), still inside issue #3's 1.5 % / 0.2 m.
+  // corrections than at 10 Hz (0.18 % / 0.03 m), still inside the 1.5 % / 0.2 m target.
   EXPECT_LT(m.relative.t_rel_pct, 1.0);
   EXPECT_LT(m.ate.rmse, 0.12);
   EXPECT_LT(rt.relative.t_rel_pct, 1.5);
