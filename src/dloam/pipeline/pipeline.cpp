@@ -24,7 +24,6 @@ constexpr double kProbeInlier = 0.2;
 /// Pixels of the range image per probe pixel sampled (before keeping cluster pixels only).
 constexpr std::size_t kProbePixels = 12000;
 /// A search result replaces the prediction only when it fits this much more of the surface.
-constexpr double kFreeSearchStep = 0.5;  ///< m between travel candidates of the free search
 constexpr double kSearchMargin = 0.05;
 /// Probe points registered per candidate of a step search.
 constexpr std::size_t kSearchPoints = 500;
@@ -136,15 +135,8 @@ bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, cons
     options.max_rotation = gated ? prior.gate.max_rotation
                                  : std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * dt);
     options.max_translation = gated ? prior.gate.max_translation : config_.motion.max_speed * dt;
-    // Along a street the walls and the ground leave the travel to the few surfaces across it, which
-    // the registration barely pulls: the candidates themselves must come within its reach.
-    if (!gated && known) options.translation_step = kFreeSearchStep;
-    std::vector<Pose> starts{Pose::Identity()};
-    if (known)
-      starts =
-          gated ? std::vector<Pose>{prior.predicted} : std::vector<Pose>{prior.predicted, Pose::Identity()};
     const StepSearchResult r = search_step(
-        source, *previous, starts, options,
+        source, *previous, {gated ? prior.predicted : Pose::Identity()}, options,
         [&](const Pose& T, double tolerance) { return consistency(seg, points, probe, T, tolerance); });
     out.search_candidates += r.candidates;
     return r;
@@ -157,12 +149,11 @@ bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, cons
            (!known || r.fitness >= kPriorFitRatio * fit_reference_);
   };
   // With no velocity the search covers every speed and turn rate of the platform, from standing
-  // still; with one, first what the platform's accelerations allow around the prediction (the
-  // motion gate: traffic moving with the sensor can make standing still look right, a car at speed
-  // cannot stop in one scan), and only when nothing there fits, every motion the platform can make
-  // (scans lost without a stamp to tell, a wrong prediction after a step that was not tracked).
-  StepSearchResult found = search(known);
-  if (known && !fits(found)) found = search(false);
+  // still; with one, what the platform's accelerations allow around the prediction (the motion
+  // gate): traffic moving with the sensor can make standing still look right, a car at speed
+  // cannot stop in one scan, and along a highway a search beyond the gate finds the guard-rail
+  // posts one spacing off.
+  const StepSearchResult found = search(known);
   if (!fits(found)) return false;
   prior.predicted = found.T;
   out.reinitialized = motion_.known();
@@ -327,15 +318,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   // The constant-velocity prediction is the odometry's last motion over the time it took: mapping
   // corrections (and loop closures) move the integrated pose in jumps when they arrive, which are
   // not motion.
-  // A re-initialised step the platform's accelerations cannot explain (scans lost without a stamp to
-  // say so) is no velocity: the next step is searched without one.
-  if (count_ > 0) {
-    const Pose step = odometry_poses_[count_ - 1].inverse() * odometry_pose_;
-    if (out.reinitialized && !prior.gate.admits(motion_.predict(interval.dt).inverse() * step))
-      motion_.reset();
-    else
-      motion_.update(step, interval.dt);
-  }
+  if (count_ > 0) motion_.update(odometry_poses_[count_ - 1].inverse() * odometry_pose_, interval.dt);
   last_pose_ = out.pose;
   // The next step check compares with this scan's static part: moving objects cannot vouch for a
   // motion (traffic moving with the sensor agrees with standing still).
