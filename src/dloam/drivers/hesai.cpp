@@ -9,6 +9,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "dloam/core/enum_names.hpp"
 #include "dloam/core/types.hpp"
 #include "dloam/drivers/channel_cut.hpp"
 #include "dloam/drivers/hesai_packet.hpp"
@@ -24,20 +25,6 @@ bool looks_like_hesai(const Packet& packet) { return hesai::looks_like_data_pack
 namespace {
 
 constexpr int kMaxStep = 1000;  // 0.01 deg: azimuth steps counted for Horizon_SCAN
-
-const char* mode_name(ReturnMode mode) {
-  switch (mode) {
-    case ReturnMode::kStrongest:
-      return "strongest";
-    case ReturnMode::kLast:
-      return "last";
-    case ReturnMode::kFirst:
-      return "first";
-    case ReturnMode::kAll:
-      return "all";
-  }
-  return "?";
-}
 
 }  // namespace
 
@@ -496,7 +483,7 @@ std::string HesaiScanner::describe() const {
     out << hesai::return_layout(m.model, m.last_mode).name << " (" << mode << "), " << m.last_rpm << " rpm, ";
   }
   out << m.channels << " channels, angles from " << m.calibration.source << ", keeping "
-      << mode_name(m.scan_options.returns) << " returns; " << m.decoded << " packets decoded, " << m.lost
+      << name_of(m.scan_options.returns) << " returns; " << m.decoded << " packets decoded, " << m.lost
       << " lost, " << m.ignored << " ignored (GPS)";
   if (m.corrupt > 0) out << ", " << m.corrupt << " with a bad CRC (not decoded)";
   if (m.reordered > 0) out << ", " << m.reordered << " out of sequence";

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "dloam/core/enum_names.hpp"
 #include "dloam/core/types.hpp"
 
 namespace dloam::drivers {
@@ -81,20 +82,6 @@ std::string normalized_model(const std::string& s) {
     if (std::isalnum(static_cast<unsigned char>(c)))
       out += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return out;
-}
-
-const char* return_mode_name(ReturnMode r) {
-  switch (r) {
-    case ReturnMode::kStrongest:
-      return "strongest";
-    case ReturnMode::kLast:
-      return "last";
-    case ReturnMode::kFirst:
-      return "first";
-    case ReturnMode::kAll:
-      return "all";
-  }
-  return "?";
 }
 
 }  // namespace
@@ -400,8 +387,8 @@ std::string OusterScanner::describe() const {
   }
   o << ", " << to_string(md_.profile) << ", " << md_.columns_per_frame << "x" << md_.fps << ", "
     << md_.pixels_per_column
-    << " beams, returns: " << (format_.dual() ? return_mode_name(options_.scan.returns) : "single") << "; "
-    << st.lidar_packets << " lidar packets, " << st.frames << " frames (" << st.complete_frames
+    << " beams, returns: " << (format_.dual() ? std::string(name_of(options_.scan.returns)) : "single")
+    << "; " << st.lidar_packets << " lidar packets, " << st.frames << " frames (" << st.complete_frames
     << " complete), " << st.imu_packets << " IMU packets ignored";
   if (st.late_packets) o << ", " << st.late_packets << " late packets dropped";
   if (st.invalid_columns) o << ", " << st.invalid_columns << " invalid columns";
