@@ -1,26 +1,20 @@
-// `dloam run`: the SLAM pipeline over a sequence folder. Writes poses (KITTI + TUM), the global
-// static map (PLY), per-scan per-module timing, the full config used, moving labels when a
-// detector is on, and metrics (degenerate scans; errors when the folder has ground truth). SIGINT,
-// SIGTERM and SIGHUP stop after the current scan, and an error in a scan stops the run there: the
-// outputs of the scans processed are written complete either way.
+// `dloam run`: the SLAM pipeline over a sequence folder or recording, into the output folder of
+// run::RunOutputs (the same writer as dloam_node's and the Python module's), through
+// run::run_sequence; this file adds the command line, the sensor model's choice and the terminal
+// report. SIGINT, SIGTERM and SIGHUP stop after the current scan, and an error in a scan stops the
+// run there: the outputs of the scans processed are written complete either way.
 #include <fmt/core.h>
 #include <fmt/ranges.h>
 
-#include <filesystem>
+#include <optional>
 
 #include "clean_pass.hpp"
 #include "cli_checks.hpp"
 #include "commands.hpp"
 #include "config_args.hpp"
-#include "dloam/eval/mos_metrics.hpp"
-#include "dloam/eval/odometry_metrics.hpp"
-#include "dloam/io/atomic_file.hpp"
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/input_options.hpp"
-#include "dloam/io/kitti.hpp"
-#include "dloam/io/ply.hpp"
 #include "dloam/io/sensor_estimate.hpp"
-#include "dloam/io/timing_csv.hpp"
 #include "dloam/pipeline/pipeline.hpp"
 #include "dloam/run/detector_setup.hpp"
 #include "dloam/run/metrics.hpp"
@@ -35,8 +29,6 @@
 
 namespace dloam::app {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct RunArgs {
   std::string sequence, out, detector, deskew, platform, gt_frame = "auto";
@@ -62,18 +54,9 @@ PipelineConfig make_config(const RunArgs& a, const SensorConfig* estimated = nul
   return cfg;
 }
 
-/// metrics.json as written so far by this run (an empty object before).
-nlohmann::json read_metrics(const std::string& path) {
-  if (!fs::exists(path)) return nlohmann::json::object();
-  return nlohmann::json::parse(io::read_file(path, io::kMaxConfigFileBytes));
-}
-
-/// The ground-truth label statistics into metrics.json (Table III's effective features, the moving
-/// share of the points sent to the map, MOS when a detector wrote labels), and on the terminal.
-void write_label_stats(const run::LabelStats& stats, const std::string& path) {
-  nlohmann::json j = read_metrics(path);
-  j.update(stats.json());
-  io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
+/// The ground-truth label statistics: Table III's effective features, the moving share of the
+/// points sent to the map, MOS when a detector wrote labels.
+void print_label_stats(const run::LabelStats& stats) {
   fmt::print(
       "effective features (Table III): {}; moving points sent to the map: {}\n",
       stats.features.total
@@ -81,17 +64,6 @@ void write_label_stats(const run::LabelStats& stats, const std::string& path) {
           : "none on labelled points",
       stats.map_points ? fmt::format("{:.3f} %", 100.0 * stats.map_moving_fraction()) : "no point sent");
   if (stats.detector) print_mos(stats.mos);
-}
-
-void write_trajectories(const std::string& dir, const io::Sequence& seq,
-                        const std::vector<ScanResult>& results, const std::vector<Pose>& lidar_poses) {
-  // Same frame convention as the input's poses.txt: camera frame when calib.txt has Tr.
-  const bool camera = seq.calib && seq.calib->has_Tr;
-  const auto poses = camera ? io::lidar_to_camera(lidar_poses, seq.calib->Tr) : lidar_poses;
-  io::write_kitti_poses(dir + "/poses.txt", poses);
-  std::vector<io::StampedPose> tum;
-  for (std::size_t i = 0; i < poses.size(); ++i) tum.push_back({results[i].stamp, poses[i]});
-  io::write_tum_poses(dir + "/poses_tum.txt", tum);
 }
 
 void print_summary(const std::vector<ScanResult>& results) {
@@ -116,78 +88,6 @@ void print_tracking(const std::vector<ScanResult>& results) {
   if (t["lost_steps"].get<std::size_t>() > 0)
     fmt::print("steps that could not be estimated (listed in metrics.json): {}\n",
                t["lost_steps"].get<std::size_t>());
-  if (t["degenerate_scans"].get<std::size_t>() > 0)
-    fmt::print("degenerate scans: {}\n", t["degenerate_scans"].get<std::size_t>());
-}
-
-/// Adds the tracking figures to metrics.json (created when the run has no ground truth).
-void merge_tracking_summary(const std::string& path, const std::vector<ScanResult>& results) {
-  nlohmann::json j = nlohmann::json::object();
-  if (fs::exists(path)) j = nlohmann::json::parse(std::ifstream(path));
-  j["tracking"] = run::tracking_json(results);
-  io::write_atomic(path, [&](std::ostream& o) { o << j.dump(2) << '\n'; });
-}
-
-/// The odometry against the ground truth: printed, and metrics.json started with it.
-void write_odometry_metrics(const std::string& json_path, const std::vector<Pose>& gt,
-                            const std::vector<Pose>& est, const std::vector<double>& lengths) {
-  const auto options = run::segment_options(gt, lengths);
-  const auto r = eval::evaluate_odometry(gt, est, options);
-  const std::string frame = "lidar";
-  print_odometry(r, frame);
-  const nlohmann::json doc = {{"odometry", run::odometry_json(r, options, frame)}};
-  io::write_atomic(json_path, [&](std::ostream& o) { o << doc.dump(2) << '\n'; });
-}
-
-/// Scans on which the odometry had nothing to hold on to: the predicted motion was kept there.
-struct DegenerateScans {
-  static constexpr std::size_t kMinFeatures = 10;  ///< per kind (edges, planes), as registration's minimum
-  static constexpr std::size_t kListed = 5;        ///< scans named on the screen; metrics.json lists all
-  std::vector<std::size_t> scans;
-  std::size_t later = 0;  ///< degenerate scans after the first of the run
-  std::size_t without_points = 0, dropped_points = 0, processed = 0;
-
-  /// Points of the cloud the sensor model keeps (within [min_range, max_range], not at the origin).
-  static std::size_t usable_points(const PointCloud& cloud, const SensorConfig& s) {
-    std::size_t n = 0;
-    for (const auto& p : cloud.xyz) {
-      const double r = p.norm();
-      n += r > 0.0 && r >= s.min_range && r <= s.max_range;
-    }
-    return n;
-  }
-  /// Flags `r` (ScanResult::degenerate) when its scan cannot constrain the odometry: no usable
-  /// point, or too few edge or plane features. (The odometry flags more scans itself: those where
-  /// the features leave some direction unconstrained.)
-  void add(ScanResult& r, std::size_t usable, const std::string& name, bool first_scan) {
-    ++processed;
-    const bool few = r.n_edges < kMinFeatures || r.n_planes < kMinFeatures;
-    if (usable == 0) ++without_points;
-    if (usable > 0 && !few) return;
-    r.degenerate = true;
-    scans.push_back(r.index);
-    later += !first_scan;
-    if (scans.size() <= kListed)
-      fmt::print(stderr, "\nwarning: {}: degenerate scan ({}); the predicted motion is kept{}\n", name,
-                 usable == 0 ? "no point between min_range and max_range"
-                             : fmt::format("{} edge and {} plane features", r.n_edges, r.n_planes),
-                 scans.size() == kListed ? " (further degenerate scans are only counted)" : "");
-  }
-  [[nodiscard]] nlohmann::json json() const {
-    return {{"processed", processed},
-            {"degenerate", scans.size()},
-            {"degenerate_scans", scans},
-            {"without_usable_points", without_points},
-            {"dropped_no_return_points", dropped_points}};
-  }
-};
-
-/// The labels of a scan that dropped no-return points, one per point of its file (no return: unlabeled).
-std::vector<Label> file_labels(const std::vector<Label>& labels, const io::ScanInfo& info) {
-  if (info.kept.empty()) return labels;
-  std::vector<Label> out(info.file_points, semantic::kUnlabeled);
-  for (std::size_t j = 0; j < info.kept.size() && j < labels.size(); ++j) out[info.kept[j]] = labels[j];
-  return out;
 }
 
 /// Sensor preset auto: the model estimated from 10 scans spread over the first 100 of the run
@@ -239,163 +139,73 @@ void run(const RunArgs& a) {
   const std::shared_ptr<MovingSegmenter> cnn = run::prepare_detector(cfg, &note);
   if (!note.empty()) fmt::print(stderr, "{}\n", note);
 
-  // The sensor model must fit the data: judged on the first scan with enough points in range,
-  // before the output folder is touched (a wrong --preset leaves nothing to clean up).
-  bool fit_checked = false;
-  for (std::size_t i = first; i < last && i < first + 10 && !fit_checked; ++i) {
-    PointCloud cloud;
-    try {
-      cloud = seq.read_scan(i);
-    } catch (const InputError&) {
-      break;  // the run reports it at this scan, with the outputs of the scans before it
-    }
-    const io::SensorFit fit = io::sensor_fit(cloud, cfg.sensor);
-    const std::string problem = io::sensor_fit_problem(fit, cfg.sensor, seq.scan_files[i]);
-    if (!problem.empty()) throw InputError(problem);
-    fit_checked = fit.in_range >= io::kMinFitPoints;
-  }
-
-  const OutputDir out(a.out, a.sequence, a.overwrite);
-  io::write_atomic(a.out + "/config.yaml", [&](std::ostream& o) { o << io::dump_config(cfg); });
-  const bool labels_on = cfg.detection.detector != Detector::kNone;
-
   fmt::print("dloam run: {} scans of {} ({} preset, detector {}, de-skew {}) -> {}\n", last - first,
              a.sequence, cfg.sensor.preset, name_of(cfg.detection.detector),
              cfg.deskew.enabled ? "on" : "off", a.out);
   std::fflush(stdout);
-  Pipeline pipeline(cfg, cnn);
-  std::vector<ScanResult> results;
-  std::vector<Pose> poses;
   Progress progress("run", last - first);
-  run::LabelStats label_stats;
-  DegenerateScans degenerate;
-  std::string failure;  // the error that stopped the run, if one did
   const StopSignals stop;
-  for (std::size_t i = first; i < last && !stop.received(); ++i) {
-    try {
-      io::ScanInfo info;
-      const PointCloud cloud = seq.read_scan(i, &info);
-      if (!fit_checked) {  // on the first scan with enough points to judge by
-        const io::SensorFit fit = io::sensor_fit(cloud, cfg.sensor);
-        const std::string problem = io::sensor_fit_problem(fit, cfg.sensor, seq.scan_files[i]);
-        if (!problem.empty()) throw InputError(problem);
-        fit_checked = fit.in_range >= io::kMinFitPoints;
-      }
-      const std::vector<Label> gt =
-          seq.has_labels() ? seq.read_scan_labels(i, cloud.size(), &info) : std::vector<Label>{};
-      std::vector<std::size_t> kept;
-      ScanResult r = pipeline.process(a.drop_moving ? run::without_moving(cloud, gt, kept) : cloud);
-      if (a.drop_moving) run::restore_indices(r, kept, cloud.size());
-      r.index = i;
-      if (seq.has_labels()) label_stats.add(gt, r);
-      if (labels_on)
-        io::write_labels(fmt::format("{}/labels/{}.label", a.out, seq.output_name(i)),
-                         file_labels(r.labels, info));
-      poses.push_back(r.pose);
-      // Keep only what timing.csv needs; swapping with empty vectors frees the memory (assigning {}
-      // keeps the capacity: about 1 MB a scan on a 64-beam drive).
-      std::vector<Label>().swap(r.labels);
-      r.n_edges = r.edge_features.size();
-      r.n_planes = r.plane_features.size();
-      std::vector<std::size_t>().swap(r.edge_features);
-      std::vector<std::size_t>().swap(r.plane_features);
-      std::vector<std::size_t>().swap(r.map_points);
-      degenerate.dropped_points += info.dropped();
-      degenerate.add(r, DegenerateScans::usable_points(cloud, cfg.sensor), seq.scan_files[i], i == first);
-      results.push_back(std::move(r));
-    } catch (const std::exception& e) {
-      failure = e.what();
-      break;
-    }
-    if (results.size() % 50 == 0)
-      write_trajectories(a.out, seq, results, poses);  // an interrupted run keeps its poses
-    progress.update(results.size(), fmt::format("{:.0f} ms/scan", results.back().times[Module::kTotal]));
-  }
-  if (stop.received())
+  std::optional<OutputDir> out_dir;
+  run::RunOptions options;
+  options.out = a.out;
+  options.first = first;
+  options.count = last - first;
+  options.drop_labelled_moving = a.drop_moving;
+  options.lengths = a.lengths;
+  options.before_output = [&] { out_dir.emplace(a.out, a.sequence, a.overwrite); };
+  options.stop = [&] { return stop.received() != 0; };
+  options.on_warning = [](const std::string& w) { fmt::print(stderr, "\nwarning: {}\n", w); };
+  options.on_scan = [&](std::size_t done, std::size_t, const ScanResult& r) {
+    progress.update(done, fmt::format("{:.0f} ms/scan", r.times[Module::kTotal]));
+  };
+  const run::SequenceRun result = run::run_sequence(seq, cfg, cnn, options);
+  const run::RunSummary& s = result.summary;
+  if (result.stopped)
     fmt::print(stderr, "\n{}: stopping; writing the outputs of the {} scans processed\n",
-               StopSignals::name(stop.received()), results.size());
-  if (!failure.empty() && results.empty()) {  // nothing to keep: the folder is left as it was found
-    std::error_code ec;
-    fs::remove(a.out + "/config.yaml", ec);
-    throw InputError(failure);
-  }
-  if (!failure.empty())
-    fmt::print(stderr, "\nerror: {}\nwriting the outputs of the {} scans before it\n", failure,
-               results.size());
+               StopSignals::name(stop.received()), s.scans);
+  if (!result.error.empty())
+    fmt::print(stderr, "\nerror: {}\nwrote the outputs of the {} scans before it\n", result.error, s.scans);
+  for (const auto& problem : s.problems) fmt::print(stderr, "{}\n", problem);
 
-  // Mapping-refined trajectory (loop closures move earlier scans too); after a failure inside the
-  // pipeline, the real-time poses when the refined ones cannot be had.
-  try {
-    std::vector<Pose> refined = pipeline.trajectory();
-    if (refined.size() >= poses.size())
-      poses.assign(refined.begin(), refined.begin() + static_cast<long>(poses.size()));
-  } catch (const std::exception& e) {
-    if (failure.empty()) failure = e.what();
-    fmt::print(stderr, "the mapping-refined poses are unavailable ({}): writing the real-time poses\n",
-               e.what());
-  }
-  write_trajectories(a.out, seq, results, poses);
-  io::write_timing_csv(a.out + "/timing.csv", results);
-  PointCloud map;
-  try {
-    map.xyz = pipeline.global_map();
-  } catch (const std::exception& e) {
-    if (failure.empty()) failure = e.what();
-    fmt::print(stderr, "the global map is unavailable ({}): map.ply is empty\n", e.what());
-  }
-  io::write_ply(a.out + "/map.ply", map);
-  print_summary(results);
-  std::size_t loops = 0;
-  try {
-    loops = pipeline.loop_closures();
-  } catch (const std::exception&) {  // the failure is reported above
-  }
-  print_tracking(results);
-  fmt::print("loop closures: {}\n", loops);
+  print_summary(s.results);
+  print_tracking(s.results);
+  fmt::print("loop closures: {}\n", s.loop_closures);
   if (seq.source) fmt::print("input: {}\n", seq.source->describe());
-  if (degenerate.dropped_points)
-    fmt::print("no-return (NaN) points dropped by the reader: {}\n", degenerate.dropped_points);
+  if (s.dropped_points) fmt::print("no-return (NaN) points dropped by the reader: {}\n", s.dropped_points);
+  fmt::print("degenerate scans: {} of {} ({} without a point in range){}\n", s.degenerate, s.scans,
+             s.without_usable_points,
+             s.degenerate == 0 ? "" : ": the predicted motion was kept there (metrics.json lists them)");
   fmt::print(
-      "degenerate scans: {} of {} ({} without a point in range){}\n", degenerate.scans.size(), results.size(),
-      degenerate.without_points,
-      degenerate.scans.empty() ? "" : ": the predicted motion was kept there (metrics.json lists them)");
-  fmt::print(
-      "wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), timing.csv, config.yaml, metrics.json{}\n",
-      a.out, map.size(), labels_on ? ", labels/" : "");
+      "wrote {}/poses.txt, poses_tum.txt, map.ply ({} points), moving.ply ({} points), timing.csv, "
+      "config.yaml, metrics.json{}\n",
+      a.out, s.map_points, s.moving_points, cfg.detection.detector != Detector::kNone ? ", labels/" : "");
+  if (s.odometry) print_odometry(*s.odometry, "lidar");
+  if (s.labels) print_label_stats(*s.labels);
 
-  if (seq.has_poses() && !poses.empty()) {
-    const auto gt_all = seq.lidar_poses();
-    const std::vector<Pose> gt(gt_all.begin() + static_cast<long>(first),
-                               gt_all.begin() + static_cast<long>(first + poses.size()));
-    write_odometry_metrics(a.out + "/metrics.json", gt, poses, a.lengths);
-  }
-  if (seq.has_labels() && !results.empty()) write_label_stats(label_stats, a.out + "/metrics.json");
-  merge_tracking_summary(a.out + "/metrics.json", results);
-  nlohmann::json metrics = read_metrics(a.out + "/metrics.json");
-  metrics["scans"] = degenerate.json();
-  io::write_atomic(a.out + "/metrics.json", [&](std::ostream& o) { o << metrics.dump(2) << '\n'; });
-
+  const std::string failure = !result.error.empty() ? result.error
+                              : s.problems.empty()  ? std::string()
+                                                    : s.problems.front();
   if (!failure.empty())
     throw InputError(
-        fmt::format("{} (the outputs of the {} scans before it are in {})", failure, results.size(), a.out));
-  if (!results.empty() && degenerate.without_points == results.size())
+        fmt::format("{} (the outputs of the {} scans before it are in {})", failure, s.scans, a.out));
+  if (s.scans > 0 && s.without_usable_points == s.scans)
     throw InputError(fmt::format(
         "{}: none of the {} scans has a point between min_range {} m and max_range {} m of the sensor model: "
         "no usable input (wrong unit, empty scans, or sensor.min_range / max_range?)",
-        a.sequence, results.size(), cfg.sensor.min_range, cfg.sensor.max_range));
-  if (results.size() > 1 && degenerate.later + 1 == results.size())
+        a.sequence, s.scans, cfg.sensor.min_range, cfg.sensor.max_range));
+  if (s.all_degenerate_after_first)
     throw InputError(
         fmt::format("{}: every scan after the first is degenerate (too few features to register): "
                     "the poses are only the predicted motion",
                     a.sequence));
   if (a.report) write_html_report(a.out, a.out + "/report.html");
-  if (stop.received()) {
+  if (result.stopped) {
     std::fflush(stdout);
     throw CLI::RuntimeError(128 + stop.received());  // as a shell reports a process ended by the signal
   }
   if (a.clean) {
     fmt::print("\n");
-    clean_sequence(seq, poses, first, cfg, a.out + "/clean");
+    clean_sequence(seq, s.trajectory, first, cfg, a.out + "/clean");
   }
 }
 
@@ -410,10 +220,11 @@ void register_run(CLI::App& app) {
       "(rosbag2 folder, .db3, .mcap) of PointCloud2 or raw packets, or a pcap / pcapng capture. Raw\n"
       "packets (Velodyne, Ouster, Hesai) give the sensor model unless --preset or the config's sensor:\n"
       "section sets one.\n"
-      "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr), poses_tum.txt, map.ply,\n"
-      "timing.csv (ms per scan and module), config.yaml (the full config used), labels/ (detector on),\n"
-      "metrics.json (degenerate scans; errors against poses.txt and labels/ when the folder has them); with "
-      "--clean also clean/ (see `dloam clean`).\n"
+      "Outputs in --out: poses.txt (KITTI, camera frame when calib.txt has Tr, with that calib.txt),\n"
+      "poses_tum.txt, poses_gt.txt (the ground truth of the scans run, when known), map.ply, moving.ply\n"
+      "(the points labelled moving), timing.csv (ms per scan and module), config.yaml (the full config\n"
+      "used), labels/ (detector on), metrics.json (tracking, degenerate scans; errors against poses.txt\n"
+      "and labels/ when the folder has them); with --report also report.html, with --clean clean/.\n"
       "A folder with the outputs of an earlier run is refused unless --overwrite; two runs cannot write\n"
       "into one folder at once. SIGINT, SIGTERM and SIGHUP stop after the current scan with complete files.\n"
       "Examples:\n"

@@ -17,8 +17,9 @@ namespace dloam::app {
 namespace {
 namespace fs = std::filesystem;
 
-constexpr const char* kOutputs[] = {"poses.txt",  "poses_tum.txt", "map.ply",
-                                    "timing.csv", "config.yaml",   "metrics.json"};
+constexpr const char* kOutputs[] = {"poses.txt",    "poses_tum.txt", "poses_gt.txt", "calib.txt",
+                                    "map.ply",      "moving.ply",    "timing.csv",   "config.yaml",
+                                    "metrics.json", "report.html"};
 
 /// The outputs of an earlier run in `dir`, and their temporary files.
 std::vector<fs::path> earlier_outputs(const fs::path& dir) {

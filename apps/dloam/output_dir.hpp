@@ -12,8 +12,8 @@ class OutputDir {
   /// Creates `dir` and locks it; throws InputError naming it when another process holds the lock,
   /// when it is `input_dir` or a sequence folder (velodyne/), or when it holds outputs of an
   /// earlier run and `overwrite` is false. With `overwrite`, deletes those outputs (only the files
-  /// `dloam run` writes: poses.txt, poses_tum.txt, map.ply, timing.csv, config.yaml,
-  /// metrics.json, labels/*.label and their .tmp files).
+  /// `dloam run` writes: poses.txt, poses_tum.txt, poses_gt.txt, calib.txt, map.ply, moving.ply,
+  /// timing.csv, config.yaml, metrics.json, report.html, labels/*.label and their .tmp files).
   OutputDir(const std::string& dir, const std::string& input_dir, bool overwrite);
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;

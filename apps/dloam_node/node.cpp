@@ -86,7 +86,10 @@ void DloamNode::on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
     publish_map(msg->header.stamp);
   r.stamp = msg->header.stamp.toSec();  // poses_tum.txt: the header stamps
   ROS_DEBUG("dloam: scan %zu in %.1f ms", index, r.times[Module::kTotal]);
-  if (outputs_) outputs_->add(r, cloud);  // labels/, moving points, timing
+  if (outputs_) {  // labels/, moving points, timing, degenerate scans
+    const std::string warning = outputs_->add(r, cloud);
+    if (!warning.empty()) ROS_WARN("dloam: %s", warning.c_str());
+  }
   ++scans_;
 }
 
@@ -130,7 +133,9 @@ void DloamNode::publish_map(const ::ros::Time& stamp) {
 }
 
 void DloamNode::write_outputs() {
-  if (outputs_) outputs_->finish(pipeline_);  // the mapping-refined trajectory, as `dloam run` writes
+  if (!outputs_) return;
+  const run::RunSummary s = outputs_->finish(pipeline_);  // the mapping-refined trajectory, as `dloam run`
+  for (const auto& problem : s.problems) ROS_ERROR("dloam: %s", problem.c_str());
 }
 
 }  // namespace dloam::node

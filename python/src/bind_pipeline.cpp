@@ -120,6 +120,9 @@ py::dict run_to_folder(const std::string& path, const std::string& out, const st
     result = run::run_sequence(seq, cfg, cnn, options);
   }
   const run::RunSummary& s = result.summary;
+  if (!result.error.empty())
+    throw InputError(result.error + " (the outputs of the " + std::to_string(s.scans) +
+                     " scans before it are in " + out + ")");
   py::dict d;
   d["scans"] = s.scans;
   d["map_points"] = s.map_points;

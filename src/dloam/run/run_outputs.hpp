@@ -9,9 +9,10 @@
 //   timing.csv      milliseconds per scan and module, feature counts and flags
 //   config.yaml     the full configuration used (the detector resolved)
 //   labels/         NNNNNN.label per scan when a detector is on
-//   metrics.json    tracking; odometry against ground-truth poses; MOS and map statistics
-//                   against ground-truth labels
-// Every file is written atomically (temp file + rename).
+//   metrics.json    tracking, degenerate scans; odometry against ground-truth poses; MOS and map
+//                   statistics against ground-truth labels
+// Every file is written atomically (temp file + rename). finish() writes them from what it can
+// still get when the pipeline has failed (the real-time poses, an empty map), and says so.
 #pragma once
 
 #include <cstddef>
@@ -20,8 +21,10 @@
 #include <string>
 #include <vector>
 
+#include "dloam/io/kitti.hpp"
 #include "dloam/pipeline/pipeline.hpp"
 #include "dloam/run/metrics.hpp"
+#include "dloam/run/scan_checks.hpp"
 
 namespace dloam::run {
 
@@ -32,6 +35,15 @@ struct OutputOptions {
   std::vector<double> lengths;    ///< segment lengths of metrics.json (empty: segment_options' choice)
   bool labels = true;             ///< write labels/ when the detector is on
   double moving_leaf_size = 0.2;  ///< m: voxel size of moving.ply (per scan)
+};
+
+/// Where a scan came from: names its per-scan outputs and its warnings.
+struct ScanOrigin {
+  std::string name;  ///< labels/NAME.label; empty: io::scan_name(the result's index)
+  std::string file;  ///< named in warnings; empty: the name
+  /// What the reader dropped (no-return points): the labels are written one per point of the file,
+  /// the dropped ones unlabelled.
+  const io::ScanInfo* info = nullptr;
 };
 
 /// What finish() wrote, for the caller to print.
@@ -46,6 +58,12 @@ struct RunSummary {
   eval::SegmentOptions segments;
   std::optional<LabelStats> labels;
   nlohmann::json metrics;  ///< what metrics.json holds
+  /// The scans' checks: degenerate ones, points without a return.
+  std::size_t degenerate = 0, without_usable_points = 0, dropped_points = 0;
+  bool all_degenerate_after_first = false;
+  /// What the pipeline could not give at the end (refined poses, map): the outputs hold the
+  /// real-time poses / an empty map instead. Empty when all went well.
+  std::vector<std::string> problems;
 };
 
 class RunOutputs {
@@ -54,15 +72,22 @@ class RunOutputs {
   /// must have its detector resolved (not auto).
   RunOutputs(OutputOptions options, const PipelineConfig& config);
 
-  /// After each scan, in order: writes its labels, keeps its moving points (from `cloud`, the
-  /// scan given to the pipeline, in the result's point order) and its timing; with `gt` (the
-  /// scan's ground-truth labels) the label statistics. `r` keeps its per-point vectors.
-  void add(const ScanResult& r, const PointCloud& cloud, const std::vector<Label>* gt = nullptr);
-  /// poses.txt and poses_tum.txt of `lidar_poses` (one per scan added so far): a checkpoint.
-  void write_poses(const std::vector<Pose>& lidar_poses) const;
+  /// After each scan, in order: writes its labels, keeps its real-time pose, its moving points
+  /// (from `cloud`, the scan read, in the result's point order) and its timing; flags `r` when it is
+  /// degenerate (DegenerateScans); with `gt` (the scan's ground-truth labels) the label
+  /// statistics. `r` keeps its per-point vectors. Returns a warning for the caller to show (a
+  /// degenerate scan), or empty.
+  std::string add(ScanResult& r, const PointCloud& cloud, const std::vector<Label>* gt = nullptr,
+                  const ScanOrigin& origin = {});
+  /// poses.txt and poses_tum.txt of the real-time poses of the scans added so far: a checkpoint.
+  void write_poses() const;
   /// Writes every file from the pipeline's final trajectory and map. `gt_lidar_poses`: the
   /// ground truth of the scans added (sensor frame), for poses_gt.txt and the odometry metrics.
   RunSummary finish(Pipeline& pipeline, const std::vector<Pose>* gt_lidar_poses = nullptr);
+
+  /// Removes what the constructor wrote (config.yaml, calib.txt, an empty labels/): for a run that
+  /// failed before its first scan.
+  void discard() const;
 
   [[nodiscard]] std::size_t scans() const { return results_.size(); }
   [[nodiscard]] const std::vector<ScanResult>& results() const { return results_; }
@@ -70,10 +95,13 @@ class RunOutputs {
 
  private:
   [[nodiscard]] std::vector<Pose> in_output_frame(const std::vector<Pose>& lidar_poses) const;
+  void write_poses(const std::vector<Pose>& lidar_poses) const;
 
   OutputOptions options_;
   bool labels_on_ = false;
+  DegenerateScans degenerate_;
   std::vector<ScanResult> results_;        ///< per-point vectors cleared
+  std::vector<Pose> realtime_poses_;       ///< per scan
   std::vector<std::vector<Vec3>> moving_;  ///< per scan, sensor frame
   std::optional<LabelStats> label_stats_;  ///< when ground-truth labels were given
 };

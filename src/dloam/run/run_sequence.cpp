@@ -1,10 +1,6 @@
 #include "dloam/run/run_sequence.hpp"
 
 #include <algorithm>
-#include <cstdio>
-
-#include "dloam/core/preprocess.hpp"
-#include "dloam/core/range_image.hpp"
 
 namespace dloam::run {
 
@@ -35,29 +31,6 @@ void restore_indices(ScanResult& r, const std::vector<std::size_t>& kept, std::s
   r.labels = std::move(labels);
 }
 
-void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, const std::string& file) {
-  std::size_t inside = 0, in_range = 0;
-  std::vector<Vec3> points = cloud.xyz;
-  correct_vertical_angle(points, sensor.vertical_angle_correction_deg);
-  const BeamLookup beams(sensor);  // the rows of the range image, beam origin heights included
-  for (const auto& p : points) {
-    const double r = p.norm();
-    if (r < sensor.min_range || r > sensor.max_range) continue;
-    ++in_range;
-    inside += beams.row(p) >= 0;
-  }
-  if (in_range > 0 && inside < 0.9 * static_cast<double>(in_range)) {
-    char what[320];
-    std::snprintf(
-        what, sizeof(what),
-        ": only %.0f%% of the points lie inside the vertical field of view of the sensor model '%s' "
-        "(%d beams, %.1f .. %.1f deg): wrong --preset or sensor config? (`dloam check` estimates it)",
-        100.0 * static_cast<double>(inside) / static_cast<double>(in_range), sensor.preset.c_str(),
-        sensor.N_scan, sensor.beam_elevation_deg(0), sensor.beam_elevation_deg(sensor.N_scan - 1));
-    throw InputError(file + what);
-  }
-}
-
 SequenceRun run_sequence(const io::Sequence& seq, const PipelineConfig& config,
                          std::shared_ptr<MovingSegmenter> cnn, const RunOptions& options) {
   const std::size_t first = options.first;
@@ -69,31 +42,55 @@ SequenceRun run_sequence(const io::Sequence& seq, const PipelineConfig& config,
                      ": dropping the labelled moving points needs ground-truth labels (labels/*.label)");
   const std::size_t last = options.count ? std::min(seq.size(), first + *options.count) : seq.size();
 
+  // The sensor model must fit the data: judged on the first scan with enough points in range,
+  // before the output folder is touched (a wrong --preset leaves nothing to clean up).
+  SensorFitCheck fit(config.sensor);
+  for (std::size_t i = first; i < last && i < first + 10 && !fit.done(); ++i) {
+    PointCloud cloud;
+    try {
+      cloud = seq.read_scan(i);
+    } catch (const InputError&) {
+      break;  // the run reports it at this scan, with the outputs of the scans before it
+    }
+    fit.check(cloud, seq.scan_files[i]);
+  }
+  if (options.before_output) options.before_output();
+
   OutputOptions output;
   output.dir = options.out;
   if (seq.calib && seq.calib->has_Tr) output.camera_Tr = seq.calib->Tr;
   output.lengths = options.lengths;
   RunOutputs outputs(output, config);
   Pipeline pipeline(config, std::move(cnn));
-  std::vector<Pose> poses;
   SequenceRun run;
   for (std::size_t i = first; i < last; ++i) {
-    if (options.stop && options.stop->load()) {
+    if (options.stop && options.stop()) {
       run.stopped = true;
       break;
     }
-    const PointCloud cloud = seq.read_scan(i);
-    if (i == first) check_sensor_fits(cloud, config.sensor, seq.scan_files[i]);
-    const std::vector<Label> gt =
-        seq.has_labels() ? seq.read_scan_labels(i, cloud.size()) : std::vector<Label>{};
-    std::vector<std::size_t> kept;
-    ScanResult r = pipeline.process(options.drop_labelled_moving ? without_moving(cloud, gt, kept) : cloud);
-    if (options.drop_labelled_moving) restore_indices(r, kept, cloud.size());
-    r.index = i;
-    outputs.add(r, cloud, seq.has_labels() ? &gt : nullptr);
-    poses.push_back(r.pose);
-    if (outputs.scans() % 50 == 0) outputs.write_poses(poses);  // an interrupted run keeps its poses
-    if (options.on_scan) options.on_scan(outputs.scans(), last - first, r);
+    try {
+      io::ScanInfo info;
+      const PointCloud cloud = seq.read_scan(i, &info);
+      fit.check(cloud, seq.scan_files[i]);  // until a scan had enough points to judge by
+      const std::vector<Label> gt =
+          seq.has_labels() ? seq.read_scan_labels(i, cloud.size(), &info) : std::vector<Label>{};
+      std::vector<std::size_t> kept;
+      ScanResult r = pipeline.process(options.drop_labelled_moving ? without_moving(cloud, gt, kept) : cloud);
+      if (options.drop_labelled_moving) restore_indices(r, kept, cloud.size());
+      r.index = i;
+      const ScanOrigin origin{seq.output_name(i), seq.scan_files[i], &info};
+      const std::string warning = outputs.add(r, cloud, seq.has_labels() ? &gt : nullptr, origin);
+      if (!warning.empty() && options.on_warning) options.on_warning(warning);
+      if (options.on_scan) options.on_scan(outputs.scans(), last - first, r);
+    } catch (const std::exception& e) {
+      run.error = e.what();
+      break;
+    }
+    if (outputs.scans() % 50 == 0) outputs.write_poses();  // an interrupted run keeps its poses
+  }
+  if (!run.error.empty() && outputs.scans() == 0) {  // nothing to keep: no half-written folder
+    outputs.discard();
+    throw InputError(run.error);
   }
   std::optional<std::vector<Pose>> gt;
   if (seq.has_poses()) {

@@ -2,7 +2,6 @@
 // to an output folder (run_outputs.hpp): what `dloam run` and the Python module's run() do.
 #pragma once
 
-#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -27,27 +26,32 @@ struct RunOptions {
   std::vector<double> lengths;  ///< segment lengths of metrics.json
   /// Called after each scan with the number done and the total (progress display).
   std::function<void(std::size_t done, std::size_t total, const ScanResult& result)> on_scan;
-  /// Checked before each scan: when set, the run stops and still writes complete outputs.
-  const std::atomic<bool>* stop = nullptr;
+  /// Called with what the caller should show (a degenerate scan).
+  std::function<void(const std::string& warning)> on_warning;
+  /// Called after the sensor model was checked against the first scans and before anything is
+  /// written into `out` (e.g. to lock the folder or clear an earlier run's outputs).
+  std::function<void()> before_output;
+  /// Checked before each scan: when it returns true, the run stops and still writes complete outputs.
+  std::function<bool()> stop;
 };
 
 struct SequenceRun {
   RunSummary summary;
   bool stopped = false;  ///< `stop` ended the run early
+  /// The error that ended the run early (a bad scan, a failure in the pipeline); the outputs of the
+  /// scans before it are written. Empty when the run went to its end.
+  std::string error;
 };
 
 /// Runs scans [first, first + count) of `sequence` through a Pipeline of `config` (its detector
-/// resolved: prepare_detector; `cnn` the segmenter it returned) and writes the output folder:
-/// poses in the frame of the input's poses.txt (camera frame when calib.txt has Tr), metrics
-/// against its ground truth when it has poses / labels. Throws InputError for a first scan out
-/// of range, missing labels for drop_labelled_moving, or a first scan that mostly misses the
-/// sensor model's field of view (the wrong sensor model).
+/// resolved: prepare_detector; `cnn` the segmenter it returned) and writes the output folder
+/// (RunOutputs): poses in the frame of the input's poses.txt (camera frame when calib.txt has Tr),
+/// labels named after the scan files, metrics against the ground truth when it has poses / labels.
+/// Throws InputError, before anything is written, for a first scan out of range, missing labels
+/// for drop_labelled_moving, or first scans that mostly miss the sensor model's field of view (the
+/// wrong sensor model, SensorFitCheck); and when the first scan of the run fails (nothing is kept).
 SequenceRun run_sequence(const io::Sequence& sequence, const PipelineConfig& config,
                          std::shared_ptr<MovingSegmenter> cnn, const RunOptions& options);
-
-/// A scan whose points mostly miss the sensor model's vertical field of view means the wrong
-/// sensor model (beam count / angles): throws InputError naming `file` and the model.
-void check_sensor_fits(const PointCloud& cloud, const SensorConfig& sensor, const std::string& file);
 
 /// The scan without the points the ground truth labels moving (a perfect detector's input, for
 /// studies); `kept`: the input index of each remaining point.
