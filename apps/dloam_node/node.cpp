@@ -67,6 +67,9 @@ void DloamNode::on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
     cloud = std::move(converted.cloud);
     if (converted.dropped > 0)
       ROS_DEBUG("%s: %zu NaN/Inf points dropped (is_dense=false)", where.c_str(), converted.dropped);
+    // The header stamp is the scan's time: the motion prior, the de-skew and the gaps of scans
+    // dropped on the way (a full subscriber queue, a driver under load) follow the real intervals.
+    if (!msg->header.stamp.isZero()) cloud.stamp = msg->header.stamp.toSec();
     r = pipeline_.process(cloud);
   } catch (const std::exception& e) {  // a bad message is reported and skipped; the node goes on
     ++bad_messages_;
@@ -74,6 +77,13 @@ void DloamNode::on_cloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
     return;
   }
   r.index = index;
+  if (r.missed_scans > 0) {  // ROS drops a full queue's oldest messages without a word
+    missed_scans_ += static_cast<std::size_t>(r.missed_scans);
+    ROS_WARN(
+        "dloam: %d scan(s) missing before %s (%.3f s after the previous one; %zu missing so far): "
+        "dropped by a full subscriber queue (~queue_size) or upstream",
+        r.missed_scans, where.c_str(), r.dt, missed_scans_);
+  }
   publish_pose(msg->header, r.pose);
   if (labelled_pub_.getNumSubscribers() > 0) {
     const std::vector<Label> labels =
@@ -136,6 +146,8 @@ void DloamNode::write_outputs() {
   if (!outputs_) return;
   const run::RunSummary s = outputs_->finish(pipeline_);  // the mapping-refined trajectory, as `dloam run`
   for (const auto& problem : s.problems) ROS_ERROR("dloam: %s", problem.c_str());
+  ROS_INFO("dloam: wrote %s: %zu scans, %zu missing in the stamps, %zu bad messages skipped",
+           params_.out.c_str(), s.scans, missed_scans_, bad_messages_);
 }
 
 }  // namespace dloam::node

@@ -57,6 +57,7 @@ class DloamNode {
   std::optional<run::RunOutputs> outputs_;  ///< when params.out is given
   std::size_t scans_ = 0;
   std::size_t bad_messages_ = 0;
+  std::size_t missed_scans_ = 0;  ///< scans missing between the stamps of consecutive messages
 };
 
 }  // namespace dloam::node
