@@ -12,25 +12,33 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   const double dist = bz != 0.0 ? std::hypot(n, bz) : n;
   const Eigen::Matrix3d R = md.lidar_to_sensor.topLeftCorner<3, 3>();
   const Eigen::Vector3d t = md.lidar_to_sensor.topRightCorner<3, 1>();
-  const auto size = 3 * static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-  dir_.resize(size);
-  off_.resize(size);
+  // The trigonometry of each row and each column once (the same arguments as per pixel, so the
+  // same values); per pixel only that of the beam's azimuth at the column's encoder angle.
+  const auto h = static_cast<std::size_t>(height_);
+  std::vector<double> beam_az(h), cos_alt(h), sin_alt(h);
+  for (std::size_t row = 0; row < h; ++row) {
+    beam_az[row] = -md.beam_azimuth_deg[row] * kDeg;
+    const double alt = md.beam_altitude_deg[row] * kDeg;
+    cos_alt[row] = std::cos(alt);
+    sin_alt[row] = std::sin(alt);
+  }
+  // Written once, so not value-initialised first (std::vector would zero 6 MB for a 1024 x 128
+  // sensor).
+  lut_.reset(new double[6 * static_cast<std::size_t>(width_) * h]);
+  double* out = lut_.get();
   for (int m = 0; m < width_; ++m) {
     const double enc = 2.0 * M_PI - m * (2.0 * M_PI / width_);
-    for (int row = 0; row < height_; ++row) {
-      const double az = -md.beam_azimuth_deg[static_cast<std::size_t>(row)] * kDeg;
-      const double alt = md.beam_altitude_deg[static_cast<std::size_t>(row)] * kDeg;
-      const Eigen::Vector3d d(std::cos(enc + az) * std::cos(alt), std::sin(enc + az) * std::cos(alt),
-                              std::sin(alt));
-      const Eigen::Vector3d o(std::cos(enc) * n - d.x() * dist, std::sin(enc) * n - d.y() * dist,
-                              -d.z() * dist + bz);
+    const double cos_enc = std::cos(enc), sin_enc = std::sin(enc);
+    for (std::size_t row = 0; row < h; ++row, out += 6) {
+      const double az = beam_az[row];
+      const Eigen::Vector3d d(std::cos(enc + az) * cos_alt[row], std::sin(enc + az) * cos_alt[row],
+                              sin_alt[row]);
+      const Eigen::Vector3d o(cos_enc * n - d.x() * dist, sin_enc * n - d.y() * dist, -d.z() * dist + bz);
       const Eigen::Vector3d ds = R * d;
       const Eigen::Vector3d os = R * o + t;
-      const std::size_t i = 3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) +
-                                 static_cast<std::size_t>(row));
       for (int k = 0; k < 3; ++k) {
-        dir_[i + static_cast<std::size_t>(k)] = ds[k] * 1e-3;
-        off_[i + static_cast<std::size_t>(k)] = os[k] * 1e-3;
+        out[k] = ds[k] * 1e-3;
+        out[3 + k] = os[k] * 1e-3;
       }
     }
   }
@@ -46,15 +54,13 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
 }
 
 Vec3 OusterXyzLut::direction(int row, int m) const {
-  const std::size_t i =
-      3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) + static_cast<std::size_t>(row));
-  return Vec3(dir_[i], dir_[i + 1], dir_[i + 2]) * 1e3;
+  const double* e = entry(row, m);
+  return Vec3(e[0], e[1], e[2]) * 1e3;
 }
 
 Vec3 OusterXyzLut::offset(int row, int m) const {
-  const std::size_t i =
-      3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) + static_cast<std::size_t>(row));
-  return {off_[i], off_[i + 1], off_[i + 2]};
+  const double* e = entry(row, m);
+  return {e[3], e[4], e[5]};
 }
 
 }  // namespace dloam::drivers
