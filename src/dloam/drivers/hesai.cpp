@@ -74,6 +74,7 @@ struct HesaiScanner::Impl {
   // complete scan was seen, then 1/8 above the largest, so that points are not moved as it grows
   // (untouched capacity costs address space only).
   std::size_t reserve_points = 0, bound_points = 0, largest_complete = 0;
+  bool outline = false;  ///< scans without points (Scanner::outline_only)
 
   static hesai::Calibration checked(hesai::Calibration c, Model m) {
     hesai::check_calibration(c, m);
@@ -155,6 +156,7 @@ struct HesaiScanner::Impl {
   [[nodiscard]] double rpm() const { return last_rpm > 0 ? last_rpm : 600.0; }
 
   void reserve(Scan& s) const {
+    if (outline) return;
     s.xyz.reserve(reserve_points);
     s.intensity.reserve(reserve_points);
     s.ring.reserve(reserve_points);
@@ -172,10 +174,11 @@ struct HesaiScanner::Impl {
 
   void emit(int b, std::vector<Scan>& done) {
     Building& bl = building[static_cast<std::size_t>(b)];
-    if (!bl.scan.xyz.empty()) {
+    const std::size_t points = bl.scan.size() + bl.scan.outline_points;  // decoded or counted
+    if (points > 0) {
       bl.scan.complete = bl.complete;
       if (bl.complete) {
-        largest_complete = std::max(largest_complete, bl.scan.size());
+        largest_complete = std::max(largest_complete, points);
         reserve_points = std::min(bound_points, largest_complete + largest_complete / 8);
       }
       done.push_back(std::move(bl.scan));
@@ -332,7 +335,11 @@ struct HesaiScanner::Impl {
       f.oc = off_cos[s].data();
       f.os = off_sin[s].data();
       f.fs = fire_s[s].data();
-      decode_firing(v, b0, f, want);
+      if (outline) {
+        decode_firing<false>(v, b0, f, want);
+      } else {
+        decode_firing<true>(v, b0, f, want);
+      }
     }
   }
 
@@ -344,8 +351,14 @@ struct HesaiScanner::Impl {
     const double* fs;       ///< each channel's firing offset (s)
   };
 
+  /// Appends a return to `out`; kPoints false: counts it (an outline).
+  template <bool kPoints>
   void push(Scan& out, const Firing& f, std::size_t c, unsigned raw, double du, std::uint8_t refl,
             int k) const {
+    if constexpr (!kPoints) {
+      ++out.outline_points;
+      return;
+    }
     const double d = raw * du;
     const double xy = d * cos_el[c];
     const double sin_az = f.sa * f.oc[c] + f.ca * f.os[c];
@@ -358,6 +371,7 @@ struct HesaiScanner::Impl {
   }
 
   // The returns of every channel of the firing in blocks b0 .. b0 + returns - 1.
+  template <bool kPoints>
   void decode_firing(const PacketView& v, int b0, const Firing& f, ReturnMode want) {
     if (raw_hi < raw_lo) return;  // no distance is in range
     const int n = v.layout.returns;
@@ -373,7 +387,7 @@ struct HesaiScanner::Impl {
       for (std::size_t c = 0; c < nc; ++c) {
         const std::uint8_t* u = u0 + unit * c;
         const unsigned r = raw_at(u);
-        if (in_range(r)) push(building[cut.buffer(static_cast<int>(c))].scan, f, c, r, du, u[2], 0);
+        if (in_range(r)) push<kPoints>(building[cut.buffer(static_cast<int>(c))].scan, f, c, r, du, u[2], 0);
       }
       return;
     }
@@ -388,8 +402,8 @@ struct HesaiScanner::Impl {
         if (ok0 && !(r0 == r1 && u[2] == u[block + 2]) &&
             !(static_cast<double>(std::fabs(static_cast<float>(r1 * du) - static_cast<float>(r0 * du))) <
               separation))
-          push(out, f, c, r0, du, u[2], 0);
-        if (ok1) push(out, f, c, r1, du, u[block + 2], 1);
+          push<kPoints>(out, f, c, r0, du, u[2], 0);
+        if (ok1) push<kPoints>(out, f, c, r1, du, u[block + 2], 1);
       }
       return;
     }
@@ -419,7 +433,7 @@ struct HesaiScanner::Impl {
                      static_cast<double>(std::fabs(dist(j) - dist(k))) < separation;
             }
           }
-          if (!drop) push(out, f, c, raw[k], du, refl[k], k);
+          if (!drop) push<kPoints>(out, f, c, raw[k], du, refl[k], k);
         }
         continue;
       }
@@ -436,7 +450,7 @@ struct HesaiScanner::Impl {
           if (better) pick = k;
         }
       }
-      if (pick >= 0 && ok[pick]) push(out, f, c, raw[pick], du, refl[pick], pick);
+      if (pick >= 0 && ok[pick]) push<kPoints>(out, f, c, raw[pick], du, refl[pick], pick);
     }
   }
 };
@@ -448,6 +462,16 @@ HesaiScanner::HesaiScanner(Model model, hesai::Calibration calibration, const Sc
 HesaiScanner::~HesaiScanner() = default;
 
 void HesaiScanner::add(const Packet& packet, std::vector<Scan>& done) { impl_->add(packet, done); }
+
+bool HesaiScanner::outline_only(bool on) {
+  impl_->outline = on;
+  return true;
+}
+
+std::unique_ptr<Scanner> HesaiScanner::restart() const {
+  return std::make_unique<HesaiScanner>(impl_->model, impl_->calibration, impl_->scan_options,
+                                        impl_->options);
+}
 
 void HesaiScanner::finish(std::vector<Scan>& done) {
   impl_->close_open(done);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <type_traits>
 
 #include "dloam/core/types.hpp"
 
@@ -71,6 +72,13 @@ const std::vector<float>& azimuth_table() {
   }();
   return table;
 }
+
+/// Sinks with `static constexpr bool kOutline = true` are told each kept return's time only
+/// (count(time)): its point is not computed.
+template <class S, class = void>
+struct counts_only : std::false_type {};
+template <class S>
+struct counts_only<S, std::void_t<decltype(S::kOutline)>> : std::bool_constant<S::kOutline> {};
 
 std::string fmt(double v, int digits) {
   char buf[64];
@@ -350,54 +358,57 @@ template <class S>
   int az = static_cast<int>(static_cast<double>(corrected) + 0.5);
   if (az >= kTurn) az -= kTurn;
   if (!full_fov_ && !in_fov(az)) return;
-
-  VelodyneReturn r;
-  const double cos_a = trig_[2 * az], sin_a = trig_[2 * az + 1];
-  const double d = distance;
-  if (t.simple) {
-    const double xy = d * t.cos_vert;
-    r.xyz = Vec3(xy * cos_a, -xy * sin_a, d * t.sin_vert);
+  if constexpr (counts_only<S>::value) {
+    sink.count(group_time + offset_s_[b][ch]);
   } else {
-    // The ROS driver's model: beam origin offsets and the two-point distance correction.
-    double xy = d * t.cos_vert - t.vert_off * t.sin_vert;
-    double dcx = 0.0, dcy = 0.0;
-    if (t.two_pt) {
-      const double xx = std::abs(xy * sin_a - t.horiz_off * cos_a);
-      const double yy = std::abs(xy * cos_a + t.horiz_off * sin_a);
-      dcx = (t.dist_corr - t.dist_corr_x) * (xx - 2.4) / (25.04 - 2.4) + t.dist_corr_x - t.dist_corr;
-      dcy = (t.dist_corr - t.dist_corr_y) * (yy - 1.93) / (25.04 - 1.93) + t.dist_corr_y - t.dist_corr;
+    VelodyneReturn r;
+    const double cos_a = trig_[2 * az], sin_a = trig_[2 * az + 1];
+    const double d = distance;
+    if (t.simple) {
+      const double xy = d * t.cos_vert;
+      r.xyz = Vec3(xy * cos_a, -xy * sin_a, d * t.sin_vert);
+    } else {
+      // The ROS driver's model: beam origin offsets and the two-point distance correction.
+      double xy = d * t.cos_vert - t.vert_off * t.sin_vert;
+      double dcx = 0.0, dcy = 0.0;
+      if (t.two_pt) {
+        const double xx = std::abs(xy * sin_a - t.horiz_off * cos_a);
+        const double yy = std::abs(xy * cos_a + t.horiz_off * sin_a);
+        dcx = (t.dist_corr - t.dist_corr_x) * (xx - 2.4) / (25.04 - 2.4) + t.dist_corr_x - t.dist_corr;
+        dcy = (t.dist_corr - t.dist_corr_y) * (yy - 1.93) / (25.04 - 1.93) + t.dist_corr_y - t.dist_corr;
+      }
+      const double dx = d + dcx, dy = d + dcy;
+      xy = dx * t.cos_vert - t.vert_off * t.sin_vert;
+      const double vx = xy * sin_a - t.horiz_off * cos_a;  // sensor frame x (right)
+      xy = dy * t.cos_vert - t.vert_off * t.sin_vert;
+      const double vy = xy * cos_a + t.horiz_off * sin_a;  // sensor frame y (forward)
+      r.xyz = Vec3(vy, -vx, dy * t.sin_vert + t.vert_off * t.cos_vert);
     }
-    const double dx = d + dcx, dy = d + dcy;
-    xy = dx * t.cos_vert - t.vert_off * t.sin_vert;
-    const double vx = xy * sin_a - t.horiz_off * cos_a;  // sensor frame x (right)
-    xy = dy * t.cos_vert - t.vert_off * t.sin_vert;
-    const double vy = xy * cos_a + t.horiz_off * sin_a;  // sensor frame y (forward)
-    r.xyz = Vec3(vy, -vx, dy * t.sin_vert + t.vert_off * t.cos_vert);
-  }
-  double intensity = refl;
-  if (t.focal_slope != 0.0) {
-    const double s = 1.0 - raw / 65535.0;
-    intensity += t.focal_slope * std::abs(t.focal_offset - 256.0 * s * s);
-  }
-  if (t.clamp) intensity = std::clamp(intensity, t.min_int, std::max(t.min_int, t.max_int));
+    double intensity = refl;
+    if (t.focal_slope != 0.0) {
+      const double s = 1.0 - raw / 65535.0;
+      intensity += t.focal_slope * std::abs(t.focal_offset - 256.0 * s * s);
+    }
+    if (t.clamp) intensity = std::clamp(intensity, t.min_int, std::max(t.min_int, t.max_int));
 
-  r.time = group_time + offset_s_[b][ch];
-  r.range = distance;
-  r.intensity = static_cast<float>(intensity);
-  r.raw_distance = raw;
-  r.azimuth = static_cast<std::uint16_t>(az);
-  r.block_azimuth = azimuth;
-  r.azimuth_step = step;
-  r.time_in_group_us = offset_us_[b][ch];
-  r.reflectivity = refl;
-  r.block = static_cast<std::uint8_t>(block);
-  r.channel = static_cast<std::uint8_t>(channel);
-  r.group = static_cast<std::uint8_t>(group);
-  r.laser = laser;
-  r.ring = t.ring;
-  r.return_id = return_id;
-  r.last = last;
-  sink.point(r);
+    r.time = group_time + offset_s_[b][ch];
+    r.range = distance;
+    r.intensity = static_cast<float>(intensity);
+    r.raw_distance = raw;
+    r.azimuth = static_cast<std::uint16_t>(az);
+    r.block_azimuth = azimuth;
+    r.azimuth_step = step;
+    r.time_in_group_us = offset_us_[b][ch];
+    r.reflectivity = refl;
+    r.block = static_cast<std::uint8_t>(block);
+    r.channel = static_cast<std::uint8_t>(channel);
+    r.group = static_cast<std::uint8_t>(group);
+    r.laser = laser;
+    r.ring = t.ring;
+    r.return_id = return_id;
+    r.last = last;
+    sink.point(r);
+  }
 }
 
 template <class S>
@@ -585,13 +596,18 @@ class VelodyneScanner final : public Scanner {
     ++data_packets_;
     index_ = index;
     done_ = &done;
-    decoder_.decode_packet(packet, base_, *this);
+    if (outline_) {
+      Outline sink{*this};
+      decoder_.decode_packet(packet, base_, sink);
+    } else {
+      decoder_.decode_packet(packet, base_, *this);
+    }
     done_ = nullptr;
     packet_gap_ = false;
   }
 
   void finish(std::vector<Scan>& done) override {
-    if (current_.size() > 0) {
+    if (current_points() > 0) {
       current_.complete = false;
       done.push_back(std::move(current_));
     }
@@ -620,6 +636,17 @@ class VelodyneScanner final : public Scanner {
     s.scan_rate_hz = rotation_hz();
     s.Horizon_SCAN = horizon_scan();
     return s;
+  }
+
+  bool outline_only(bool on) override {
+    outline_ = on;
+    return true;
+  }
+
+  [[nodiscard]] std::unique_ptr<Scanner> restart() const override {
+    VelodyneDecoder decoder = decoder_;
+    decoder.last_step_ = 0.0f;
+    return std::make_unique<VelodyneScanner>(std::move(decoder), options_, velodyne_, evidence_, notes_);
   }
 
   [[nodiscard]] std::string describe() const override {
@@ -651,6 +678,20 @@ class VelodyneScanner final : public Scanner {
 
  private:
   friend class dloam::drivers::VelodyneDecoder;  // calls group() and point()
+
+  /// The decoder's sink in outline mode: the cut as with points, the returns only counted.
+  struct Outline {
+    static constexpr bool kOutline = true;
+    VelodyneScanner& scanner;
+    void group(int group, std::uint16_t azimuth, double time) { scanner.group(group, azimuth, time); }
+    void count(double time) {
+      ++scanner.current_.outline_points;
+      scanner.current_.end = std::max(scanner.current_.end, time);
+    }
+  };
+
+  /// Points of the scan being assembled (decoded, or counted in outline mode).
+  [[nodiscard]] std::size_t current_points() const { return current_.size() + current_.outline_points; }
   static std::uint16_t block_azimuth_of(const Packet& p) { return block_azimuth(p, 0); }
 
   [[nodiscard]] double rotation_hz() const { return sum_dt_ > 0 ? sum_az_ / 100.0 / 360.0 / sum_dt_ : 10.0; }
@@ -689,7 +730,7 @@ class VelodyneScanner final : public Scanner {
     if (have_group_ && prev_phased_ - phased > 1000) {
       // The azimuth passed the cut: the rotation is done.
       current_.complete = started_at_cut_ && !lost_ && !lost;
-      expected_points_ = std::max(expected_points_, current_.size() + current_.size() / 8);
+      expected_points_ = std::max(expected_points_, current_points() + current_points() / 8);
       done_->push_back(std::move(current_));
       current_ = Scan{};
       started_at_cut_ = true;
@@ -737,7 +778,7 @@ class VelodyneScanner final : public Scanner {
   }
 
   void reserve() {
-    if (expected_points_ == 0) return;
+    if (expected_points_ == 0 || outline_) return;
     current_.xyz.reserve(expected_points_);
     current_.intensity.reserve(expected_points_);
     current_.ring.reserve(expected_points_);
@@ -784,6 +825,7 @@ class VelodyneScanner final : public Scanner {
   bool have_group_ = false, started_at_cut_ = false, lost_ = false, fresh_ = true;
   int prev_phased_ = 0, prev_group_az_ = 0;
   std::size_t expected_points_ = 0;
+  bool outline_ = false;
 };
 
 }  // namespace detail

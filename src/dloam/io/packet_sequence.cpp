@@ -176,11 +176,15 @@ bool same_scan(const drivers::Scan& s, const ScanEntry& e) {
 
 class PacketSource : public ScanSource {
  public:
-  PacketSource(std::shared_ptr<PacketRecording> recording, ScannerFactory factory, FirstPackets first,
+  /// `prototype`: a fresh scanner to restart() for each decoding session; without one (a
+  /// scanner that cannot restart), `factory` makes them from `first`.
+  PacketSource(std::shared_ptr<PacketRecording> recording, ScannerFactory factory,
+               std::unique_ptr<drivers::Scanner> prototype, FirstPackets first,
                std::vector<ScanEntry> entries, std::vector<std::size_t> kept, double rate,
                std::string scanner_line, std::size_t packets)
       : recording_(std::move(recording)),
         factory_(std::move(factory)),
+        prototype_(std::move(prototype)),
         first_(std::move(first)),
         entries_(std::move(entries)),
         kept_(std::move(kept)),
@@ -201,7 +205,7 @@ class PacketSource : public ScanSource {
                "scan " + std::to_string(i) + " does not decode again as it did when indexed");
       }
     }
-    return to_point_cloud(scan, rate_);
+    return to_point_cloud(std::move(scan), rate_);
   }
 
   [[nodiscard]] std::string describe() const override {
@@ -223,7 +227,8 @@ class PacketSource : public ScanSource {
   void start_session(const std::optional<PacketCheckpoint>& from) const {
     session_ = std::make_unique<Session>();
     session_->stream = recording_->open(from ? &*from : nullptr);
-    session_->scanner = factory_(first_.packets);
+    session_->scanner = prototype_ ? prototype_->restart() : nullptr;
+    if (!session_->scanner) session_->scanner = factory_(first_.packets);
     session_->fed = from ? from->packet : 0;
   }
 
@@ -258,6 +263,7 @@ class PacketSource : public ScanSource {
 
   std::shared_ptr<PacketRecording> recording_;
   ScannerFactory factory_;
+  std::unique_ptr<drivers::Scanner> prototype_;
   FirstPackets first_;
   std::vector<ScanEntry> entries_;
   std::vector<std::size_t> kept_;
@@ -299,18 +305,36 @@ FirstPackets first_packets(const PacketRecording& recording, std::size_t max_pac
   return out;
 }
 
+namespace {
+
+/// The per-point sweep fractions of a scan (empty without per-point stamps).
+std::vector<float> sweep_fractions(const drivers::Scan& scan, double scan_rate_hz) {
+  std::vector<float> time;
+  if (scan.stamps.size() != scan.xyz.size()) return time;
+  const float below_one = std::nextafter(1.0f, 0.0f);
+  time.resize(scan.xyz.size());
+  for (std::size_t k = 0; k < scan.xyz.size(); ++k) {
+    const double f = (scan.stamps[k] - scan.start) * scan_rate_hz;
+    time[k] = std::clamp(static_cast<float>(f), 0.0f, below_one);
+  }
+  return time;
+}
+
+}  // namespace
+
 PointCloud to_point_cloud(const drivers::Scan& scan, double scan_rate_hz) {
   PointCloud cloud;
   cloud.xyz = scan.xyz;
   if (scan.intensity.size() == scan.xyz.size()) cloud.intensity = scan.intensity;
-  if (scan.stamps.size() == scan.xyz.size()) {
-    const float below_one = std::nextafter(1.0f, 0.0f);
-    cloud.time.resize(scan.xyz.size());
-    for (std::size_t k = 0; k < scan.xyz.size(); ++k) {
-      const double f = (scan.stamps[k] - scan.start) * scan_rate_hz;
-      cloud.time[k] = std::clamp(static_cast<float>(f), 0.0f, below_one);
-    }
-  }
+  cloud.time = sweep_fractions(scan, scan_rate_hz);
+  return cloud;
+}
+
+PointCloud to_point_cloud(drivers::Scan&& scan, double scan_rate_hz) {
+  PointCloud cloud;
+  cloud.time = sweep_fractions(scan, scan_rate_hz);
+  if (scan.intensity.size() == scan.xyz.size()) cloud.intensity = std::move(scan.intensity);
+  cloud.xyz = std::move(scan.xyz);
   return cloud;
 }
 
@@ -322,6 +346,8 @@ Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, Scanne
     fail(recording->name(), "holds no packets (" + what + ")");
   }
   std::unique_ptr<drivers::Scanner> scanner = make_scanner(first.packets);
+  // The index needs the scans' outlines only; their points are decoded when read.
+  const bool outlined = scanner->outline_only(true);
   std::vector<ScanEntry> entries;
   auto stream = recording->open();
   std::optional<PacketCheckpoint> clean = stream->checkpoint();
@@ -330,7 +356,8 @@ Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, Scanne
   std::size_t fed = 0;
   auto record = [&](bool at_finish) {
     for (const auto& s : done)
-      entries.push_back({s.start, s.end, s.size(), s.complete, fed, at_finish, clean});
+      entries.push_back(
+          {s.start, s.end, outlined ? s.outline_points : s.size(), s.complete, fed, at_finish, clean});
     done.clear();
   };
   while (stream->next(p)) {
@@ -359,9 +386,15 @@ Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, Scanne
     seq.scan_files.push_back(recording->name() + ": scan " + std::to_string(i));
     seq.times.push_back(entries[kept[i]].start);
   }
-  seq.source = std::make_shared<PacketSource>(std::move(recording), std::move(make_scanner), std::move(first),
-                                              std::move(entries), std::move(kept), rate,
-                                              scanner->describe() + (note.empty() ? "" : "; " + note), fed);
+  // Decoding sessions restart a scanner that shares the index scanner's tables (an Ouster
+  // scanner's xyz lookup table); only a scanner that cannot restart is made again from the first
+  // packets, which are then kept.
+  std::unique_ptr<drivers::Scanner> prototype = scanner->restart();
+  if (prototype) first = FirstPackets{};
+  seq.source =
+      std::make_shared<PacketSource>(std::move(recording), std::move(make_scanner), std::move(prototype),
+                                     std::move(first), std::move(entries), std::move(kept), rate,
+                                     scanner->describe() + (note.empty() ? "" : "; " + note), fed);
   return seq;
 }
 
