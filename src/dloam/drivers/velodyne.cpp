@@ -347,6 +347,12 @@ template <class S>
   float distance = static_cast<float>(raw) * unit_f_;
   distance += t.dist_corr_f;
   if (!(distance > min_range_ && distance < max_range_)) return;
+  if constexpr (counts_only<S>::value) {
+    if (full_fov_) {  // no azimuth needed
+      sink.count(group_time + offset_s_[b][ch]);
+      return;
+    }
+  }
 
   // Azimuth at this laser's firing, interpolated over the group's azimuth step, minus the laser's
   // azimuth correction, rounded to the encoder's 0.01 deg (the ROS drivers' float arithmetic).
@@ -600,6 +606,7 @@ class VelodyneScanner final : public Scanner {
       Outline sink{*this};
       decoder_.decode_packet(packet, base_, sink);
     } else {
+      make_room();
       decoder_.decode_packet(packet, base_, *this);
     }
     done_ = nullptr;
@@ -609,9 +616,10 @@ class VelodyneScanner final : public Scanner {
   void finish(std::vector<Scan>& done) override {
     if (current_points() > 0) {
       current_.complete = false;
-      done.push_back(std::move(current_));
+      done.push_back(take_current());
     }
     current_ = Scan{};
+    written_ = 0;
     have_group_ = false;
   }
 
@@ -691,7 +699,34 @@ class VelodyneScanner final : public Scanner {
   };
 
   /// Points of the scan being assembled (decoded, or counted in outline mode).
-  [[nodiscard]] std::size_t current_points() const { return current_.size() + current_.outline_points; }
+  [[nodiscard]] std::size_t current_points() const { return written_ + current_.outline_points; }
+
+  /// The scan being assembled, its arrays cut to the points written; a new one starts.
+  Scan take_current() {
+    current_.xyz.resize(written_);
+    current_.intensity.resize(written_);
+    current_.ring.resize(written_);
+    current_.return_id.resize(written_);
+    current_.stamps.resize(written_);
+    Scan out = std::move(current_);
+    current_ = Scan{};
+    written_ = 0;
+    return out;
+  }
+
+  /// Points are written in place (point()): the arrays are kept at least a packet's returns
+  /// ahead of the points written, sized up a chunk at a time within the reserved capacity.
+  void make_room() {
+    constexpr std::size_t kPacketReturns = kBlocks * 32;  // each return of a block at most once
+    constexpr std::size_t kChunk = 8192;
+    if (current_.xyz.size() >= written_ + kPacketReturns) return;
+    const std::size_t size = written_ + std::max(kChunk, kPacketReturns);
+    current_.xyz.resize(size);
+    current_.intensity.resize(size);
+    current_.ring.resize(size);
+    current_.return_id.resize(size);
+    current_.stamps.resize(size);
+  }
   static std::uint16_t block_azimuth_of(const Packet& p) { return block_azimuth(p, 0); }
 
   [[nodiscard]] double rotation_hz() const { return sum_dt_ > 0 ? sum_az_ / 100.0 / 360.0 / sum_dt_ : 10.0; }
@@ -731,8 +766,7 @@ class VelodyneScanner final : public Scanner {
       // The azimuth passed the cut: the rotation is done.
       current_.complete = started_at_cut_ && !lost_ && !lost;
       expected_points_ = std::max(expected_points_, current_points() + current_points() / 8);
-      done_->push_back(std::move(current_));
-      current_ = Scan{};
+      done_->push_back(take_current());
       started_at_cut_ = true;
       lost_ = lost;
       fresh_ = true;
@@ -746,6 +780,7 @@ class VelodyneScanner final : public Scanner {
       current_.first_packet = index_;
       fresh_ = false;
       reserve();
+      if (!outline_) make_room();
     }
     current_.last_packet = index_;
     current_.end = std::max(current_.end, time);
@@ -769,11 +804,12 @@ class VelodyneScanner final : public Scanner {
   }
 
   void point(const VelodyneReturn& r) {
-    current_.xyz.push_back(r.xyz);
-    current_.intensity.push_back(r.intensity);
-    current_.ring.push_back(r.ring);
-    current_.return_id.push_back(r.return_id);
-    current_.stamps.push_back(r.time);
+    const std::size_t k = written_++;  // make_room() made room for the packet
+    current_.xyz[k] = r.xyz;
+    current_.intensity[k] = r.intensity;
+    current_.ring[k] = r.ring;
+    current_.return_id[k] = r.return_id;
+    current_.stamps[k] = r.time;
     current_.end = std::max(current_.end, r.time);
   }
 
@@ -821,6 +857,7 @@ class VelodyneScanner final : public Scanner {
   bool packet_gap_ = false;
 
   Scan current_;
+  std::size_t written_ = 0;  ///< points of current_ (its arrays may be longer: make_room())
   std::vector<Scan>* done_ = nullptr;
   bool have_group_ = false, started_at_cut_ = false, lost_ = false, fresh_ = true;
   int prev_phased_ = 0, prev_group_az_ = 0;
