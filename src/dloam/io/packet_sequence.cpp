@@ -286,14 +286,18 @@ std::shared_ptr<PacketRecording> bag_packet_recording(std::shared_ptr<const Bag>
 }
 
 FirstPackets first_packets(const PacketRecording& recording, std::size_t max_packets, std::size_t max_bytes) {
-  FirstPackets out;
   auto stream = recording.open();
+  return first_packets(*stream, max_packets, max_bytes);
+}
+
+FirstPackets first_packets(PacketStream& stream, std::size_t max_packets, std::size_t max_bytes) {
+  FirstPackets out;
   drivers::Packet p;
   std::size_t bytes = 0;
-  std::vector<std::string> where;
   std::vector<drivers::Packet> meta;
-  while (out.bytes.size() < max_packets && bytes < max_bytes && stream->next(p)) {
+  while (out.bytes.size() < max_packets && bytes < max_bytes && stream.next(p)) {
     out.bytes.emplace_back(p.data, p.data + p.size);
+    out.after.push_back(stream.checkpoint());
     bytes += p.size;
     meta.push_back(p);
   }
@@ -340,7 +344,11 @@ PointCloud to_point_cloud(drivers::Scan&& scan, double scan_rate_hz) {
 
 Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, ScannerFactory make_scanner,
                               const std::string& note) {
-  FirstPackets first = first_packets(*recording);
+  // One pass: the first packets (kept, to make the scanner from) are fed from their copies, the
+  // rest straight from the stream.
+  auto stream = recording->open();
+  std::optional<PacketCheckpoint> clean = stream->checkpoint();
+  FirstPackets first = first_packets(*stream);
   if (first.packets.empty()) {
     const std::string what = recording->describe();
     fail(recording->name(), "holds no packets (" + what + ")");
@@ -349,8 +357,6 @@ Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, Scanne
   // The index needs the scans' outlines only; their points are decoded when read.
   const bool outlined = scanner->outline_only(true);
   std::vector<ScanEntry> entries;
-  auto stream = recording->open();
-  std::optional<PacketCheckpoint> clean = stream->checkpoint();
   std::vector<drivers::Scan> done;
   drivers::Packet p;
   std::size_t fed = 0;
@@ -360,12 +366,14 @@ Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, Scanne
           {s.start, s.end, outlined ? s.outline_points : s.size(), s.complete, fed, at_finish, clean});
     done.clear();
   };
-  while (stream->next(p)) {
-    scanner->add(p, done);
+  auto feed = [&](const drivers::Packet& packet, const std::optional<PacketCheckpoint>& after) {
+    scanner->add(packet, done);
     ++fed;
-    if (auto c = stream->checkpoint()) clean = c;
+    if (after) clean = after;
     record(false);
-  }
+  };
+  for (std::size_t k = 0; k < first.packets.size(); ++k) feed(first.packets[k], first.after[k]);
+  while (stream->next(p)) feed(p, stream->checkpoint());
   scanner->finish(done);
   record(true);
   std::vector<std::size_t> kept;

@@ -56,14 +56,22 @@ std::shared_ptr<PacketRecording> bag_packet_recording(std::shared_ptr<const Bag>
 using ScannerFactory =
     std::function<std::unique_ptr<drivers::Scanner>(const std::vector<drivers::Packet>& first_packets)>;
 
+/// How many packets from the start of a recording a scanner is made from, at most.
+constexpr std::size_t kFirstPackets = 1000;
+constexpr std::size_t kFirstPacketBytes = std::size_t{32} << 20;  ///< about
+
 /// The first packets of a recording, kept with their bytes (what a scanner is made from).
 struct FirstPackets {
   std::vector<std::vector<std::uint8_t>> bytes;
-  std::vector<drivers::Packet> packets;  ///< point into `bytes`
+  std::vector<drivers::Packet> packets;                ///< point into `bytes`
+  std::vector<std::optional<PacketCheckpoint>> after;  ///< the stream's checkpoint after each
 };
 /// Up to `max_packets` (and about `max_bytes`) packets from the start of the recording.
-FirstPackets first_packets(const PacketRecording& recording, std::size_t max_packets = 1000,
-                           std::size_t max_bytes = std::size_t{32} << 20);
+FirstPackets first_packets(const PacketRecording& recording, std::size_t max_packets = kFirstPackets,
+                           std::size_t max_bytes = kFirstPacketBytes);
+/// As above, the next packets of an open stream, which then stands after them.
+FirstPackets first_packets(PacketStream& stream, std::size_t max_packets = kFirstPackets,
+                           std::size_t max_bytes = kFirstPacketBytes);
 
 /// One scan of a decoded rotation as the pipeline takes it: xyz, intensity and per-point time.
 /// The per-point time is the one place where scan stamps become the pipeline's sweep fraction:
