@@ -1,5 +1,6 @@
 #include "dloam/drivers/ouster_geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dloam::drivers {
@@ -12,16 +13,22 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   const double dist = bz != 0.0 ? std::hypot(n, bz) : n;
   const Eigen::Matrix3d R = md.lidar_to_sensor.topLeftCorner<3, 3>();
   const Eigen::Vector3d t = md.lidar_to_sensor.topRightCorner<3, 1>();
-  // The trigonometry of each row and each column once (the same arguments as per pixel, so the
-  // same values); per pixel only that of the beam's azimuth at the column's encoder angle.
+  // The trigonometry of each row and each column once, and per column that of each distinct beam
+  // azimuth (rows share them: 16 of 128 on an OS-1-128): the same arguments as per pixel, so the
+  // same values.
   const auto h = static_cast<std::size_t>(height_);
-  std::vector<double> beam_az(h), cos_alt(h), sin_alt(h);
+  std::vector<double> cos_alt(h), sin_alt(h), beam_az;
+  std::vector<std::size_t> az_of_row(h);
   for (std::size_t row = 0; row < h; ++row) {
-    beam_az[row] = -md.beam_azimuth_deg[row] * kDeg;
+    const double az = -md.beam_azimuth_deg[row] * kDeg;
+    const auto same = std::find(beam_az.begin(), beam_az.end(), az);
+    az_of_row[row] = static_cast<std::size_t>(same - beam_az.begin());
+    if (same == beam_az.end()) beam_az.push_back(az);
     const double alt = md.beam_altitude_deg[row] * kDeg;
     cos_alt[row] = std::cos(alt);
     sin_alt[row] = std::sin(alt);
   }
+  std::vector<double> cos_sum(beam_az.size()), sin_sum(beam_az.size());  // of enc + az
   // Written once, so not value-initialised first (std::vector would zero 6 MB for a 1024 x 128
   // sensor).
   lut_.reset(new double[6 * static_cast<std::size_t>(width_) * h]);
@@ -29,16 +36,19 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   for (int m = 0; m < width_; ++m) {
     const double enc = 2.0 * M_PI - m * (2.0 * M_PI / width_);
     const double cos_enc = std::cos(enc), sin_enc = std::sin(enc);
+    for (std::size_t k = 0; k < beam_az.size(); ++k) {
+      cos_sum[k] = std::cos(enc + beam_az[k]);
+      sin_sum[k] = std::sin(enc + beam_az[k]);
+    }
     for (std::size_t row = 0; row < h; ++row, out += 6) {
-      const double az = beam_az[row];
-      const Eigen::Vector3d d(std::cos(enc + az) * cos_alt[row], std::sin(enc + az) * cos_alt[row],
-                              sin_alt[row]);
+      const std::size_t k = az_of_row[row];
+      const Eigen::Vector3d d(cos_sum[k] * cos_alt[row], sin_sum[k] * cos_alt[row], sin_alt[row]);
       const Eigen::Vector3d o(cos_enc * n - d.x() * dist, sin_enc * n - d.y() * dist, -d.z() * dist + bz);
       const Eigen::Vector3d ds = R * d;
       const Eigen::Vector3d os = R * o + t;
-      for (int k = 0; k < 3; ++k) {
-        out[k] = ds[k] * 1e-3;
-        out[3 + k] = os[k] * 1e-3;
+      for (int c = 0; c < 3; ++c) {
+        out[c] = ds[c] * 1e-3;
+        out[3 + c] = os[c] * 1e-3;
       }
     }
   }
