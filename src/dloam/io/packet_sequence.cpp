@@ -42,8 +42,9 @@ class PcapStream : public PacketStream {
     p.size = d_.payload.size();
     p.stamp = d_.time;
     p.port = d_.dst_port;
-    p.where = shared_->path + ": packet " + std::to_string(d_.index) + " (record " +
-              std::to_string(d_.record) + ")";
+    // Assigned in place: the string keeps its buffer from packet to packet.
+    p.where.assign(shared_->path).append(": packet ").append(std::to_string(d_.index));
+    p.where.append(" (record ").append(std::to_string(d_.record)).append(")");
     return true;
   }
   [[nodiscard]] std::optional<PacketCheckpoint> checkpoint() const override {
@@ -112,8 +113,9 @@ class BagPacketStream : public PacketStream {
     p.size = s.size;
     p.stamp = s.stamp != 0.0 ? s.stamp : msg_.stamp;
     p.port = 0;
-    p.where = bag_->where(topic_, message_) + ", packet " + std::to_string(slot_) + " (packet " +
-              std::to_string(packet_) + " of the topic)";
+    // Assigned in place: the string keeps its buffer from packet to packet.
+    p.where.assign(where_).append(", packet ").append(std::to_string(slot_));
+    p.where.append(" (packet ").append(std::to_string(packet_)).append(" of the topic)");
     ++slot_;
     ++packet_;
     return true;
@@ -130,6 +132,7 @@ class BagPacketStream : public PacketStream {
                                  1e-9 * static_cast<double>(bag_->message_time_ns(topic_, k)),
                                  bag_->where(topic_, k));
     message_ = k;
+    where_ = bag_->where(topic_, k);
     loaded_ = true;
   }
   std::shared_ptr<const Bag> bag_;
@@ -138,6 +141,7 @@ class BagPacketStream : public PacketStream {
   bool loaded_ = false;
   std::vector<std::uint8_t> data_;
   PacketMessage msg_;
+  std::string where_;  ///< the message's
 };
 
 class BagPacketRecording : public PacketRecording {
