@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dloam/drivers/huge_pages.hpp"
+
 namespace dloam::drivers {
 
 OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
@@ -31,7 +33,9 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   std::vector<double> cos_sum(beam_az.size()), sin_sum(beam_az.size());  // of enc + az
   // Written once, so not value-initialised first (std::vector would zero 6 MB for a 1024 x 128
   // sensor).
-  lut_.reset(new double[6 * static_cast<std::size_t>(width_) * h]);
+  const std::size_t entries = 6 * static_cast<std::size_t>(width_) * h;
+  lut_.reset(new double[entries]);
+  advise_huge_pages(lut_.get(), entries * sizeof(double));
   double* out = lut_.get();
   for (int m = 0; m < width_; ++m) {
     const double enc = 2.0 * M_PI - m * (2.0 * M_PI / width_);
