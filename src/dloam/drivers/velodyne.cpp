@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -328,11 +329,6 @@ double VelodyneDecoder::packet_period_us(std::uint8_t return_mode) const {
   return nominal_packet_period_us(model_, return_mode);
 }
 
-bool VelodyneDecoder::in_fov(int azimuth) const {
-  if (fov_min_ <= fov_max_) return azimuth >= fov_min_ && azimuth <= fov_max_;
-  return azimuth >= fov_min_ || azimuth <= fov_max_;
-}
-
 template <class S>
 [[gnu::always_inline]] inline void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block,
                                                          int bank, int channel, int group,
@@ -414,8 +410,11 @@ template <class S>
   }
 }
 
+// Inlined into its one caller per sink type, so that a sink held there in a local (the outline
+// counters) stays in registers.
 template <class S>
-void VelodyneDecoder::decode_packet(const Packet& packet, double hour_start, S& sink) {
+[[gnu::always_inline]] inline void VelodyneDecoder::decode_packet(const Packet& packet, double hour_start,
+                                                                  S& sink) {
   if (packet.data == nullptr || packet.size != kVelodyneDataPacketSize)
     fail(packet,
          "not a Velodyne data packet: " + std::to_string(packet.size) + " bytes (a data packet has 1206)");
@@ -602,6 +601,7 @@ class VelodyneScanner final : public Scanner {
     if (outline_) {
       Outline sink{*this};
       decoder_.decode_packet(packet, base_, sink);
+      sink.flush();
     } else {
       make_room();
       decoder_.decode_packet(packet, base_, *this);
@@ -684,14 +684,27 @@ class VelodyneScanner final : public Scanner {
  private:
   friend class dloam::drivers::VelodyneDecoder;  // calls group() and point()
 
-  /// The decoder's sink in outline mode: the cut as with points, the returns only counted.
+  /// The decoder's sink in outline mode: the cut as with points, the returns only counted (here,
+  /// and added to the scan at the next firing group and after the packet: flush()).
   struct Outline {
     static constexpr bool kOutline = true;
     VelodyneScanner& scanner;
-    void group(int group, std::uint16_t azimuth, double time) { scanner.group(group, azimuth, time); }
+    std::size_t points = 0;
+    double end = -std::numeric_limits<double>::infinity();
+    void group(int group, std::uint16_t azimuth, double time) {
+      flush();
+      scanner.group(group, azimuth, time);
+    }
     void count(double time) {
-      ++scanner.current_.outline_points;
-      scanner.current_.end = std::max(scanner.current_.end, time);
+      ++points;
+      end = std::max(end, time);
+    }
+    void flush() {
+      Scan& s = scanner.current_;
+      s.outline_points += points;
+      s.end = std::max(s.end, end);
+      points = 0;
+      end = -std::numeric_limits<double>::infinity();
     }
   };
 
