@@ -1,10 +1,10 @@
 // Speed of reading recordings end to end, as `dloam run` does: io::open_sequence() (the container,
-// the vendor scanner over every packet: the indexing pass) and then read_scan() of every scan in
-// order (decoded again, one session); also the container alone and the indexing pass alone.
-// Reports the recording's duration (first to last packet) over the CPU time as `x_realtime`
-// (one core), on the 128-beam recordings of the sensors folder and the VLP-16 capture. These
-// recordings hold 1-3 rotations (50 for the VLP-16), so the per-open costs (scanner set-up from
-// the calibration, twice) weigh more than in a long recording.
+// the vendor scanner over every packet with outlines only: the indexing pass) and then read_scan()
+// of every scan in order (the points decoded, one session); also the container alone and the
+// indexing pass alone. Reports the recording's duration (first to last packet) over the CPU time as
+// `x_realtime` (one core), on the 128-beam recordings of the sensors folder and the VLP-16 capture.
+// These recordings hold 1-3 rotations (50 for the VLP-16), so the per-open costs (the scanner made
+// from the calibration, an Ouster scanner's xyz lookup table) weigh more than in a long recording.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>

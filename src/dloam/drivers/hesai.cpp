@@ -31,6 +31,9 @@ constexpr int kMaxStep = 1000;  // 0.01 deg: azimuth steps counted for Horizon_S
 struct HesaiScanner::Impl {
   struct Building {
     Scan scan;
+    /// Points written in place into scan's arrays, which are kept a packet's returns longer
+    /// (make_room) and cut to this when the scan is handed out.
+    std::size_t written = 0;
     bool touched = false;  ///< a firing has been assigned to it
     bool complete = true;
   };
@@ -74,6 +77,8 @@ struct HesaiScanner::Impl {
   // complete scan was seen, then 1/8 above the largest, so that points are not moved as it grows
   // (untouched capacity costs address space only).
   std::size_t reserve_points = 0, bound_points = 0, largest_complete = 0;
+  bool outline = false;         ///< scans without points (Scanner::outline_only)
+  std::size_t packet_room = 0;  ///< most returns of the packet being decoded
 
   static hesai::Calibration checked(hesai::Calibration c, Model m) {
     hesai::check_calibration(c, m);
@@ -155,6 +160,7 @@ struct HesaiScanner::Impl {
   [[nodiscard]] double rpm() const { return last_rpm > 0 ? last_rpm : 600.0; }
 
   void reserve(Scan& s) const {
+    if (outline) return;
     s.xyz.reserve(reserve_points);
     s.intensity.reserve(reserve_points);
     s.ring.reserve(reserve_points);
@@ -162,20 +168,40 @@ struct HesaiScanner::Impl {
     s.stamps.reserve(reserve_points);
   }
 
+  /// The arrays sized for packet_room more points than written, a chunk at a time.
+  void make_room(Building& bl) const {
+    constexpr std::size_t kChunk = 8192;
+    if (outline || bl.scan.xyz.size() >= bl.written + packet_room) return;
+    const std::size_t size = bl.written + std::max(kChunk, packet_room);
+    bl.scan.xyz.resize(size);
+    bl.scan.intensity.resize(size);
+    bl.scan.ring.resize(size);
+    bl.scan.return_id.resize(size);
+    bl.scan.stamps.resize(size);
+  }
+
   void reset_building(int b) {
     Building& bl = building[static_cast<std::size_t>(b)];
     bl.scan = Scan{};
+    bl.written = 0;
     reserve(bl.scan);
+    make_room(bl);
     bl.touched = false;
     bl.complete = true;
   }
 
   void emit(int b, std::vector<Scan>& done) {
     Building& bl = building[static_cast<std::size_t>(b)];
-    if (!bl.scan.xyz.empty()) {
+    const std::size_t points = bl.written + bl.scan.outline_points;  // decoded or counted
+    if (points > 0) {
+      bl.scan.xyz.resize(bl.written);
+      bl.scan.intensity.resize(bl.written);
+      bl.scan.ring.resize(bl.written);
+      bl.scan.return_id.resize(bl.written);
+      bl.scan.stamps.resize(bl.written);
       bl.scan.complete = bl.complete;
       if (bl.complete) {
-        largest_complete = std::max(largest_complete, bl.scan.size());
+        largest_complete = std::max(largest_complete, points);
         reserve_points = std::min(bound_points, largest_complete + largest_complete / 8);
       }
       done.push_back(std::move(bl.scan));
@@ -291,6 +317,8 @@ struct HesaiScanner::Impl {
                                             : bound_points;
       for (Building& bl : building) reserve(bl.scan);
     }
+    packet_room = static_cast<std::size_t>(channels) * static_cast<std::size_t>(v.blocks);
+    for (Building& bl : building) make_room(bl);
     if (options.firing_time_azimuth && v.motor_rpm != angles_rpm) build_angle_tables(v.motor_rpm);
 
     if (v.dis_unit_mm != raw_limits_mm) set_raw_limits(v);
@@ -332,7 +360,11 @@ struct HesaiScanner::Impl {
       f.oc = off_cos[s].data();
       f.os = off_sin[s].data();
       f.fs = fire_s[s].data();
-      decode_firing(v, b0, f, want);
+      if (outline) {
+        decode_firing<false>(v, b0, f, want);
+      } else {
+        decode_firing<true>(v, b0, f, want);
+      }
     }
   }
 
@@ -344,20 +376,29 @@ struct HesaiScanner::Impl {
     const double* fs;       ///< each channel's firing offset (s)
   };
 
-  void push(Scan& out, const Firing& f, std::size_t c, unsigned raw, double du, std::uint8_t refl,
+  /// Appends a return to `out`; kPoints false: counts it (an outline).
+  template <bool kPoints>
+  void push(Building& out, const Firing& f, std::size_t c, unsigned raw, double du, std::uint8_t refl,
             int k) const {
+    if constexpr (!kPoints) {
+      ++out.scan.outline_points;
+      return;
+    }
     const double d = raw * du;
     const double xy = d * cos_el[c];
     const double sin_az = f.sa * f.oc[c] + f.ca * f.os[c];
     const double cos_az = f.ca * f.oc[c] - f.sa * f.os[c];
-    out.xyz.emplace_back(xy * cos_az, -xy * sin_az, d * sin_el[c]);
-    out.stamps.push_back(f.t + f.fs[c]);
-    out.intensity.push_back(refl);
-    out.ring.push_back(ring[c]);
-    out.return_id.push_back(static_cast<std::uint8_t>(k));
+    const std::size_t i = out.written++;  // make_room() made room for the packet
+    Scan& s = out.scan;
+    s.xyz[i] = Vec3(xy * cos_az, -xy * sin_az, d * sin_el[c]);
+    s.stamps[i] = f.t + f.fs[c];
+    s.intensity[i] = refl;
+    s.ring[i] = ring[c];
+    s.return_id[i] = static_cast<std::uint8_t>(k);
   }
 
   // The returns of every channel of the firing in blocks b0 .. b0 + returns - 1.
+  template <bool kPoints>
   void decode_firing(const PacketView& v, int b0, const Firing& f, ReturnMode want) {
     if (raw_hi < raw_lo) return;  // no distance is in range
     const int n = v.layout.returns;
@@ -373,7 +414,7 @@ struct HesaiScanner::Impl {
       for (std::size_t c = 0; c < nc; ++c) {
         const std::uint8_t* u = u0 + unit * c;
         const unsigned r = raw_at(u);
-        if (in_range(r)) push(building[cut.buffer(static_cast<int>(c))].scan, f, c, r, du, u[2], 0);
+        if (in_range(r)) push<kPoints>(building[cut.buffer(static_cast<int>(c))], f, c, r, du, u[2], 0);
       }
       return;
     }
@@ -383,13 +424,13 @@ struct HesaiScanner::Impl {
         const unsigned r0 = raw_at(u), r1 = raw_at(u + block);
         const bool ok0 = in_range(r0), ok1 = in_range(r1);
         if (!ok0 && !ok1) continue;
-        Scan& out = building[cut.buffer(static_cast<int>(c))].scan;
+        Building& out = building[cut.buffer(static_cast<int>(c))];
         // Block 0 is not the group's last: dropped when identical to or near block 1.
         if (ok0 && !(r0 == r1 && u[2] == u[block + 2]) &&
             !(static_cast<double>(std::fabs(static_cast<float>(r1 * du) - static_cast<float>(r0 * du))) <
               separation))
-          push(out, f, c, r0, du, u[2], 0);
-        if (ok1) push(out, f, c, r1, du, u[block + 2], 1);
+          push<kPoints>(out, f, c, r0, du, u[2], 0);
+        if (ok1) push<kPoints>(out, f, c, r1, du, u[block + 2], 1);
       }
       return;
     }
@@ -407,7 +448,7 @@ struct HesaiScanner::Impl {
         any = any || ok[k];
       }
       if (!any) continue;
-      Scan& out = building[cut.buffer(static_cast<int>(c))].scan;
+      Building& out = building[cut.buffer(static_cast<int>(c))];
       if (want == ReturnMode::kAll) {
         for (int k = 0; k < n; ++k) {
           if (!ok[k]) continue;
@@ -419,7 +460,7 @@ struct HesaiScanner::Impl {
                      static_cast<double>(std::fabs(dist(j) - dist(k))) < separation;
             }
           }
-          if (!drop) push(out, f, c, raw[k], du, refl[k], k);
+          if (!drop) push<kPoints>(out, f, c, raw[k], du, refl[k], k);
         }
         continue;
       }
@@ -436,7 +477,7 @@ struct HesaiScanner::Impl {
           if (better) pick = k;
         }
       }
-      if (pick >= 0 && ok[pick]) push(out, f, c, raw[pick], du, refl[pick], pick);
+      if (pick >= 0 && ok[pick]) push<kPoints>(out, f, c, raw[pick], du, refl[pick], pick);
     }
   }
 };
@@ -448,6 +489,16 @@ HesaiScanner::HesaiScanner(Model model, hesai::Calibration calibration, const Sc
 HesaiScanner::~HesaiScanner() = default;
 
 void HesaiScanner::add(const Packet& packet, std::vector<Scan>& done) { impl_->add(packet, done); }
+
+bool HesaiScanner::outline_only(bool on) {
+  impl_->outline = on;
+  return true;
+}
+
+std::unique_ptr<Scanner> HesaiScanner::restart() const {
+  return std::make_unique<HesaiScanner>(impl_->model, impl_->calibration, impl_->scan_options,
+                                        impl_->options);
+}
 
 void HesaiScanner::finish(std::vector<Scan>& done) {
   impl_->close_open(done);

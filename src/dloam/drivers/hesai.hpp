@@ -77,6 +77,8 @@ class HesaiScanner final : public Scanner {
   /// sensor's limits within the configured ones, preset = the model name.
   [[nodiscard]] SensorConfig sensor() const override;
   [[nodiscard]] std::string describe() const override;
+  bool outline_only(bool on) override;
+  [[nodiscard]] std::unique_ptr<Scanner> restart() const override;
 
   [[nodiscard]] hesai::Model model() const;
   [[nodiscard]] const hesai::Calibration& calibration() const;

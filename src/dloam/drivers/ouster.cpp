@@ -105,8 +105,13 @@ bool looks_like_ouster(const Packet& packet) {
   return false;
 }
 
-OusterScanner::OusterScanner(OusterMetadata metadata, const DriverOptions& options)
-    : md_(std::move(metadata)), options_(options), format_(md_), lut_(md_), batcher_(md_, format_) {
+OusterScanner::OusterScanner(OusterMetadata metadata, const DriverOptions& options,
+                             std::shared_ptr<const OusterXyzLut> lut)
+    : md_(std::move(metadata)),
+      options_(options),
+      format_(md_),
+      lut_(lut ? std::move(lut) : std::make_shared<const OusterXyzLut>(md_)),
+      batcher_(md_, format_) {
   if (!options_.model.empty() && !md_.prod_line.empty()) {
     const std::string a = normalized_model(options_.model), b = normalized_model(md_.prod_line);
     if (b.rfind(a, 0) != 0 && a.rfind(b, 0) != 0)
@@ -230,6 +235,24 @@ void OusterScanner::finish(std::vector<Scan>& done) {
     if (f.valid_columns > 0) convert(f, done);
 }
 
+bool OusterScanner::outline_only(bool on) {
+  outline_ = on;
+  return true;
+}
+
+std::unique_ptr<Scanner> OusterScanner::restart() const {
+  return std::make_unique<OusterScanner>(md_, options_, lut_);
+}
+
+void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
+  if (outline_) {
+    convert<false>(frame, done);
+  } else {
+    convert<true>(frame, done);
+  }
+}
+
+template <bool kPoints>
 void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
   Scan s;
   const int h = frame.height, w = frame.width;
@@ -238,11 +261,13 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
   const std::size_t capacity = static_cast<std::size_t>(frame.valid_columns) * static_cast<std::size_t>(h) *
                                (dual && mode == ReturnMode::kAll ? 2 : 1);
   // Sized once and cut back at the end: the per-point loop writes through plain pointers.
-  s.xyz.resize(capacity);
-  s.intensity.resize(capacity);
-  s.ring.resize(capacity);
-  s.return_id.resize(capacity);
-  s.stamps.resize(capacity);
+  if constexpr (kPoints) {
+    s.xyz.resize(capacity);
+    s.intensity.resize(capacity);
+    s.ring.resize(capacity);
+    s.return_id.resize(capacity);
+    s.stamps.resize(capacity);
+  }
   Vec3* out_xyz = s.xyz.data();
   float* out_intensity = s.intensity.data();
   std::uint16_t* out_ring = s.ring.data();
@@ -265,6 +290,7 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
   const auto lo = static_cast<std::uint32_t>(std::ceil(min_mm_));
   const auto hi = max_mm_ >= 4.0e9 ? 0xFFFFFFFFu : static_cast<std::uint32_t>(std::floor(max_mm_));
   const std::uint16_t* ring_of_row = ring_of_row_.data();
+  const OusterXyzLut& lut = *lut_;
 
   bool first_time = true;
   for (int m = 0; m < w; ++m) {
@@ -276,11 +302,13 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
     const std::uint8_t* col = frame.column(m);
     auto emit = [&](int row, std::uint32_t r, std::uint32_t intensity, std::uint8_t rid) {
       if (r < lo || r > hi) return;
-      out_xyz[n] = lut_.point(row, m, static_cast<double>(r));
-      out_intensity[n] = static_cast<float>(intensity);
-      out_ring[n] = ring_of_row[row];
-      out_rid[n] = rid;
-      out_t[n] = t;
+      if constexpr (kPoints) {
+        out_xyz[n] = lut.point(row, m, static_cast<double>(r));
+        out_intensity[n] = static_cast<float>(intensity);
+        out_ring[n] = ring_of_row[row];
+        out_rid[n] = rid;
+        out_t[n] = t;
+      }
       ++n;
     };
     if (!dual) {
@@ -325,11 +353,15 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
       }
     }
   }
-  s.xyz.resize(n);
-  s.intensity.resize(n);
-  s.ring.resize(n);
-  s.return_id.resize(n);
-  s.stamps.resize(n);
+  if constexpr (kPoints) {
+    s.xyz.resize(n);
+    s.intensity.resize(n);
+    s.ring.resize(n);
+    s.return_id.resize(n);
+    s.stamps.resize(n);
+  } else {
+    s.outline_points = n;
+  }
   s.first_packet = frame.first_packet;
   s.last_packet = frame.last_packet;
   s.complete = frame.complete;
@@ -359,7 +391,7 @@ SensorConfig OusterScanner::sensor() const {
   std::vector<double> el(h), dz(h);
   for (std::size_t row = 0; row < h; ++row) {
     el[ring_of_row_[row]] = md_.beam_altitude_deg[row];
-    dz[ring_of_row_[row]] = lut_.row_origin_heights()[row];
+    dz[ring_of_row_[row]] = lut_->row_origin_heights()[row];
   }
   // Two beams at one elevation (not in any file seen) would break the strictly increasing table.
   for (std::size_t k = 1; k < el.size(); ++k)

@@ -72,12 +72,17 @@ struct OusterStats {
 
 class OusterScanner : public Scanner {
  public:
-  OusterScanner(OusterMetadata metadata, const DriverOptions& options);
+  /// `lut`: the metadata's xyz lookup table when it is already built (restart() shares it);
+  /// nullptr: built here.
+  OusterScanner(OusterMetadata metadata, const DriverOptions& options,
+                std::shared_ptr<const OusterXyzLut> lut = nullptr);
 
   void add(const Packet& packet, std::vector<Scan>& done) override;
   void finish(std::vector<Scan>& done) override;
   [[nodiscard]] SensorConfig sensor() const override;
   [[nodiscard]] std::string describe() const override;
+  bool outline_only(bool on) override;
+  [[nodiscard]] std::unique_ptr<Scanner> restart() const override;
 
   /// Throws InputError naming the packet and the metadata file when the packet is neither one
   /// of this stream's lidar packets nor an IMU packet. Returns true for a lidar packet.
@@ -87,7 +92,7 @@ class OusterScanner : public Scanner {
 
   [[nodiscard]] const OusterMetadata& metadata() const { return md_; }
   [[nodiscard]] const OusterPacketFormat& format() const { return format_; }
-  [[nodiscard]] const OusterXyzLut& lut() const { return lut_; }
+  [[nodiscard]] const OusterXyzLut& lut() const { return *lut_; }
   [[nodiscard]] OusterStats stats() const;
   /// Frames as assembled, before the conversion to points (the raw fields of each scan handed
   /// out). Off by default; when on, they are kept until taken.
@@ -95,13 +100,16 @@ class OusterScanner : public Scanner {
   std::vector<OusterFrame> take_frames() { return std::move(kept_); }
 
  private:
+  /// The frame's scan; kPoints false: its outline (the points counted, not computed).
+  template <bool kPoints>
+  void convert(OusterFrame& frame, std::vector<Scan>& done);
   void convert(OusterFrame& frame, std::vector<Scan>& done);
   void update_clock(const Packet& packet, std::uint64_t sensor_ns);
 
   OusterMetadata md_;
   DriverOptions options_;
   OusterPacketFormat format_;
-  OusterXyzLut lut_;
+  std::shared_ptr<const OusterXyzLut> lut_;
   OusterFrameBatcher batcher_;
   std::vector<std::uint16_t> ring_of_row_;  ///< Ouster row -> ring (0 = lowest beam)
   std::string preset_;
@@ -112,6 +120,7 @@ class OusterScanner : public Scanner {
   bool clock_set_ = false;
   double clock_offset_ = 0.0;
   bool keep_frames_ = false;
+  bool outline_ = false;
   std::vector<OusterFrame> kept_;
 };
 

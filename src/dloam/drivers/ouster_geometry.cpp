@@ -1,6 +1,9 @@
 #include "dloam/drivers/ouster_geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "dloam/drivers/huge_pages.hpp"
 
 namespace dloam::drivers {
 
@@ -12,25 +15,44 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   const double dist = bz != 0.0 ? std::hypot(n, bz) : n;
   const Eigen::Matrix3d R = md.lidar_to_sensor.topLeftCorner<3, 3>();
   const Eigen::Vector3d t = md.lidar_to_sensor.topRightCorner<3, 1>();
-  const auto size = 3 * static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
-  dir_.resize(size);
-  off_.resize(size);
+  // The trigonometry of each row and each column once, and per column that of each distinct beam
+  // azimuth (rows share them: 16 of 128 on an OS-1-128): the same arguments as per pixel, so the
+  // same values.
+  const auto h = static_cast<std::size_t>(height_);
+  std::vector<double> cos_alt(h), sin_alt(h), beam_az;
+  std::vector<std::size_t> az_of_row(h);
+  for (std::size_t row = 0; row < h; ++row) {
+    const double az = -md.beam_azimuth_deg[row] * kDeg;
+    const auto same = std::find(beam_az.begin(), beam_az.end(), az);
+    az_of_row[row] = static_cast<std::size_t>(same - beam_az.begin());
+    if (same == beam_az.end()) beam_az.push_back(az);
+    const double alt = md.beam_altitude_deg[row] * kDeg;
+    cos_alt[row] = std::cos(alt);
+    sin_alt[row] = std::sin(alt);
+  }
+  std::vector<double> cos_sum(beam_az.size()), sin_sum(beam_az.size());  // of enc + az
+  // Written once, so not value-initialised first (std::vector would zero 6 MB for a 1024 x 128
+  // sensor).
+  const std::size_t entries = 6 * static_cast<std::size_t>(width_) * h;
+  lut_.reset(new double[entries]);
+  advise_huge_pages(lut_.get(), entries * sizeof(double));
+  double* out = lut_.get();
   for (int m = 0; m < width_; ++m) {
     const double enc = 2.0 * M_PI - m * (2.0 * M_PI / width_);
-    for (int row = 0; row < height_; ++row) {
-      const double az = -md.beam_azimuth_deg[static_cast<std::size_t>(row)] * kDeg;
-      const double alt = md.beam_altitude_deg[static_cast<std::size_t>(row)] * kDeg;
-      const Eigen::Vector3d d(std::cos(enc + az) * std::cos(alt), std::sin(enc + az) * std::cos(alt),
-                              std::sin(alt));
-      const Eigen::Vector3d o(std::cos(enc) * n - d.x() * dist, std::sin(enc) * n - d.y() * dist,
-                              -d.z() * dist + bz);
+    const double cos_enc = std::cos(enc), sin_enc = std::sin(enc);
+    for (std::size_t k = 0; k < beam_az.size(); ++k) {
+      cos_sum[k] = std::cos(enc + beam_az[k]);
+      sin_sum[k] = std::sin(enc + beam_az[k]);
+    }
+    for (std::size_t row = 0; row < h; ++row, out += 6) {
+      const std::size_t k = az_of_row[row];
+      const Eigen::Vector3d d(cos_sum[k] * cos_alt[row], sin_sum[k] * cos_alt[row], sin_alt[row]);
+      const Eigen::Vector3d o(cos_enc * n - d.x() * dist, sin_enc * n - d.y() * dist, -d.z() * dist + bz);
       const Eigen::Vector3d ds = R * d;
       const Eigen::Vector3d os = R * o + t;
-      const std::size_t i = 3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) +
-                                 static_cast<std::size_t>(row));
-      for (int k = 0; k < 3; ++k) {
-        dir_[i + static_cast<std::size_t>(k)] = ds[k] * 1e-3;
-        off_[i + static_cast<std::size_t>(k)] = os[k] * 1e-3;
+      for (int c = 0; c < 3; ++c) {
+        out[c] = ds[c] * 1e-3;
+        out[3 + c] = os[c] * 1e-3;
       }
     }
   }
@@ -46,15 +68,13 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
 }
 
 Vec3 OusterXyzLut::direction(int row, int m) const {
-  const std::size_t i =
-      3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) + static_cast<std::size_t>(row));
-  return Vec3(dir_[i], dir_[i + 1], dir_[i + 2]) * 1e3;
+  const double* e = entry(row, m);
+  return Vec3(e[0], e[1], e[2]) * 1e3;
 }
 
 Vec3 OusterXyzLut::offset(int row, int m) const {
-  const std::size_t i =
-      3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) + static_cast<std::size_t>(row));
-  return {off_[i], off_[i + 1], off_[i + 2]};
+  const double* e = entry(row, m);
+  return {e[3], e[4], e[5]};
 }
 
 }  // namespace dloam::drivers

@@ -10,6 +10,7 @@
 // it to the sensor's base, so the sensor frame has x forward, y left, z up (REP 103).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "dloam/core/types.hpp"
@@ -26,10 +27,8 @@ class OusterXyzLut {
   /// Sensor-frame point (m) of pixel `row` (Ouster's beam order, top first) of measurement `m`
   /// for a range in mm (> 0).
   [[nodiscard]] Vec3 point(int row, int m, double range_mm) const {
-    const std::size_t i =
-        3 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) + static_cast<std::size_t>(row));
-    return {dir_[i] * range_mm + off_[i], dir_[i + 1] * range_mm + off_[i + 1],
-            dir_[i + 2] * range_mm + off_[i + 2]};
+    const double* e = entry(row, m);
+    return {e[0] * range_mm + e[3], e[1] * range_mm + e[4], e[2] * range_mm + e[5]};
   }
   /// Unit direction and offset (m) of a pixel in the sensor frame: point = range_m * d + o.
   [[nodiscard]] Vec3 direction(int row, int m) const;
@@ -44,8 +43,14 @@ class OusterXyzLut {
   [[nodiscard]] const std::vector<double>& row_origin_heights() const { return row_heights_; }
 
  private:
+  [[nodiscard]] const double* entry(int row, int m) const {
+    return lut_.get() + 6 * (static_cast<std::size_t>(m) * static_cast<std::size_t>(height_) +
+                             static_cast<std::size_t>(row));
+  }
+
   int width_, height_;
-  std::vector<double> dir_, off_;  ///< per (m, row): direction in m per mm of range, offset in m
+  /// Per (m, row): the direction in m per mm of range, then the offset in m.
+  std::unique_ptr<double[]> lut_;
   double origin_height_ = 0.0;
   std::vector<double> row_heights_;
 };

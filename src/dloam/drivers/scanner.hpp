@@ -66,6 +66,9 @@ struct Scan {
   double end = 0.0;                               ///< time of the last firing (s)
   std::size_t first_packet = 0, last_packet = 0;  ///< packet indices (Packet::where's counter)
   bool complete = true;  ///< a full rotation (false: partial head/tail of a recording, lost packets)
+  /// From a scanner set to outlines only (Scanner::outline_only): the points the scan has; its
+  /// point arrays are then empty. 0 otherwise.
+  std::size_t outline_points = 0;
 
   [[nodiscard]] std::size_t size() const { return xyz.size(); }
 };
@@ -86,6 +89,17 @@ class Scanner {
   [[nodiscard]] virtual SensorConfig sensor() const = 0;
   /// One line for `dloam check` / `dloam run`: model, return mode, rpm, packets ignored.
   [[nodiscard]] virtual std::string describe() const = 0;
+
+  /// Outlines only (on): the scans handed out have their start, end, packets and completeness,
+  /// and count their points in Scan::outline_points without decoding them (no point arrays), as
+  /// they would come out of the same packets with points; all that indexing a recording needs, for
+  /// a fraction of the decoding. Set before the first packet. Returns whether the scanner does it
+  /// (the default does not: it keeps handing out the points).
+  virtual bool outline_only(bool on) { return !on; }
+  /// A scanner as this one was made (no packet seen, scans with points), sharing its calibration
+  /// and lookup tables: decoding again from the start or from a checkpoint. nullptr (the
+  /// default) when the scanner cannot: then make a new one.
+  [[nodiscard]] virtual std::unique_ptr<Scanner> restart() const { return nullptr; }
 };
 
 }  // namespace dloam::drivers

@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "dloam/core/types.hpp"
-
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
+#include "dloam/drivers/huge_pages.hpp"
 
 namespace dloam::drivers {
 namespace {
@@ -71,6 +70,13 @@ const std::vector<float>& azimuth_table() {
   }();
   return table;
 }
+
+/// Sinks with `static constexpr bool kOutline = true` are told each kept return's time only
+/// (count(time)): its point is not computed.
+template <class S, class = void>
+struct counts_only : std::false_type {};
+template <class S>
+struct counts_only<S, std::void_t<decltype(S::kOutline)>> : std::bool_constant<S::kOutline> {};
 
 std::string fmt(double v, int digits) {
   char buf[64];
@@ -323,11 +329,6 @@ double VelodyneDecoder::packet_period_us(std::uint8_t return_mode) const {
   return nominal_packet_period_us(model_, return_mode);
 }
 
-bool VelodyneDecoder::in_fov(int azimuth) const {
-  if (fov_min_ <= fov_max_) return azimuth >= fov_min_ && azimuth <= fov_max_;
-  return azimuth >= fov_min_ || azimuth <= fov_max_;
-}
-
 template <class S>
 [[gnu::always_inline]] inline void VelodyneDecoder::emit(std::uint16_t raw, std::uint8_t refl, int block,
                                                          int bank, int channel, int group,
@@ -339,6 +340,12 @@ template <class S>
   float distance = static_cast<float>(raw) * unit_f_;
   distance += t.dist_corr_f;
   if (!(distance > min_range_ && distance < max_range_)) return;
+  if constexpr (counts_only<S>::value) {
+    if (full_fov_) {  // no azimuth needed
+      sink.count(group_time + offset_s_[b][ch]);
+      return;
+    }
+  }
 
   // Azimuth at this laser's firing, interpolated over the group's azimuth step, minus the laser's
   // azimuth correction, rounded to the encoder's 0.01 deg (the ROS drivers' float arithmetic).
@@ -350,58 +357,64 @@ template <class S>
   int az = static_cast<int>(static_cast<double>(corrected) + 0.5);
   if (az >= kTurn) az -= kTurn;
   if (!full_fov_ && !in_fov(az)) return;
-
-  VelodyneReturn r;
-  const double cos_a = trig_[2 * az], sin_a = trig_[2 * az + 1];
-  const double d = distance;
-  if (t.simple) {
-    const double xy = d * t.cos_vert;
-    r.xyz = Vec3(xy * cos_a, -xy * sin_a, d * t.sin_vert);
+  if constexpr (counts_only<S>::value) {
+    sink.count(group_time + offset_s_[b][ch]);
   } else {
-    // The ROS driver's model: beam origin offsets and the two-point distance correction.
-    double xy = d * t.cos_vert - t.vert_off * t.sin_vert;
-    double dcx = 0.0, dcy = 0.0;
-    if (t.two_pt) {
-      const double xx = std::abs(xy * sin_a - t.horiz_off * cos_a);
-      const double yy = std::abs(xy * cos_a + t.horiz_off * sin_a);
-      dcx = (t.dist_corr - t.dist_corr_x) * (xx - 2.4) / (25.04 - 2.4) + t.dist_corr_x - t.dist_corr;
-      dcy = (t.dist_corr - t.dist_corr_y) * (yy - 1.93) / (25.04 - 1.93) + t.dist_corr_y - t.dist_corr;
+    VelodyneReturn r;
+    const double cos_a = trig_[2 * az], sin_a = trig_[2 * az + 1];
+    const double d = distance;
+    if (t.simple) {
+      const double xy = d * t.cos_vert;
+      r.xyz = Vec3(xy * cos_a, -xy * sin_a, d * t.sin_vert);
+    } else {
+      // The ROS driver's model: beam origin offsets and the two-point distance correction.
+      double xy = d * t.cos_vert - t.vert_off * t.sin_vert;
+      double dcx = 0.0, dcy = 0.0;
+      if (t.two_pt) {
+        const double xx = std::abs(xy * sin_a - t.horiz_off * cos_a);
+        const double yy = std::abs(xy * cos_a + t.horiz_off * sin_a);
+        dcx = (t.dist_corr - t.dist_corr_x) * (xx - 2.4) / (25.04 - 2.4) + t.dist_corr_x - t.dist_corr;
+        dcy = (t.dist_corr - t.dist_corr_y) * (yy - 1.93) / (25.04 - 1.93) + t.dist_corr_y - t.dist_corr;
+      }
+      const double dx = d + dcx, dy = d + dcy;
+      xy = dx * t.cos_vert - t.vert_off * t.sin_vert;
+      const double vx = xy * sin_a - t.horiz_off * cos_a;  // sensor frame x (right)
+      xy = dy * t.cos_vert - t.vert_off * t.sin_vert;
+      const double vy = xy * cos_a + t.horiz_off * sin_a;  // sensor frame y (forward)
+      r.xyz = Vec3(vy, -vx, dy * t.sin_vert + t.vert_off * t.cos_vert);
     }
-    const double dx = d + dcx, dy = d + dcy;
-    xy = dx * t.cos_vert - t.vert_off * t.sin_vert;
-    const double vx = xy * sin_a - t.horiz_off * cos_a;  // sensor frame x (right)
-    xy = dy * t.cos_vert - t.vert_off * t.sin_vert;
-    const double vy = xy * cos_a + t.horiz_off * sin_a;  // sensor frame y (forward)
-    r.xyz = Vec3(vy, -vx, dy * t.sin_vert + t.vert_off * t.cos_vert);
-  }
-  double intensity = refl;
-  if (t.focal_slope != 0.0) {
-    const double s = 1.0 - raw / 65535.0;
-    intensity += t.focal_slope * std::abs(t.focal_offset - 256.0 * s * s);
-  }
-  if (t.clamp) intensity = std::clamp(intensity, t.min_int, std::max(t.min_int, t.max_int));
+    double intensity = refl;
+    if (t.focal_slope != 0.0) {
+      const double s = 1.0 - raw / 65535.0;
+      intensity += t.focal_slope * std::abs(t.focal_offset - 256.0 * s * s);
+    }
+    if (t.clamp) intensity = std::clamp(intensity, t.min_int, std::max(t.min_int, t.max_int));
 
-  r.time = group_time + offset_s_[b][ch];
-  r.range = distance;
-  r.intensity = static_cast<float>(intensity);
-  r.raw_distance = raw;
-  r.azimuth = static_cast<std::uint16_t>(az);
-  r.block_azimuth = azimuth;
-  r.azimuth_step = step;
-  r.time_in_group_us = offset_us_[b][ch];
-  r.reflectivity = refl;
-  r.block = static_cast<std::uint8_t>(block);
-  r.channel = static_cast<std::uint8_t>(channel);
-  r.group = static_cast<std::uint8_t>(group);
-  r.laser = laser;
-  r.ring = t.ring;
-  r.return_id = return_id;
-  r.last = last;
-  sink.point(r);
+    r.time = group_time + offset_s_[b][ch];
+    r.range = distance;
+    r.intensity = static_cast<float>(intensity);
+    r.raw_distance = raw;
+    r.azimuth = static_cast<std::uint16_t>(az);
+    r.block_azimuth = azimuth;
+    r.azimuth_step = step;
+    r.time_in_group_us = offset_us_[b][ch];
+    r.reflectivity = refl;
+    r.block = static_cast<std::uint8_t>(block);
+    r.channel = static_cast<std::uint8_t>(channel);
+    r.group = static_cast<std::uint8_t>(group);
+    r.laser = laser;
+    r.ring = t.ring;
+    r.return_id = return_id;
+    r.last = last;
+    sink.point(r);
+  }
 }
 
+// Inlined into its one caller per sink type, so that a sink held there in a local (the outline
+// counters) stays in registers.
 template <class S>
-void VelodyneDecoder::decode_packet(const Packet& packet, double hour_start, S& sink) {
+[[gnu::always_inline]] inline void VelodyneDecoder::decode_packet(const Packet& packet, double hour_start,
+                                                                  S& sink) {
   if (packet.data == nullptr || packet.size != kVelodyneDataPacketSize)
     fail(packet,
          "not a Velodyne data packet: " + std::to_string(packet.size) + " bytes (a data packet has 1206)");
@@ -585,17 +598,25 @@ class VelodyneScanner final : public Scanner {
     ++data_packets_;
     index_ = index;
     done_ = &done;
-    decoder_.decode_packet(packet, base_, *this);
+    if (outline_) {
+      Outline sink{*this};
+      decoder_.decode_packet(packet, base_, sink);
+      sink.flush();
+    } else {
+      make_room();
+      decoder_.decode_packet(packet, base_, *this);
+    }
     done_ = nullptr;
     packet_gap_ = false;
   }
 
   void finish(std::vector<Scan>& done) override {
-    if (current_.size() > 0) {
+    if (current_points() > 0) {
       current_.complete = false;
-      done.push_back(std::move(current_));
+      done.push_back(take_current());
     }
     current_ = Scan{};
+    written_ = 0;
     have_group_ = false;
   }
 
@@ -620,6 +641,17 @@ class VelodyneScanner final : public Scanner {
     s.scan_rate_hz = rotation_hz();
     s.Horizon_SCAN = horizon_scan();
     return s;
+  }
+
+  bool outline_only(bool on) override {
+    outline_ = on;
+    return true;
+  }
+
+  [[nodiscard]] std::unique_ptr<Scanner> restart() const override {
+    VelodyneDecoder decoder = decoder_;
+    decoder.last_step_ = 0.0f;
+    return std::make_unique<VelodyneScanner>(std::move(decoder), options_, velodyne_, evidence_, notes_);
   }
 
   [[nodiscard]] std::string describe() const override {
@@ -651,6 +683,60 @@ class VelodyneScanner final : public Scanner {
 
  private:
   friend class dloam::drivers::VelodyneDecoder;  // calls group() and point()
+
+  /// The decoder's sink in outline mode: the cut as with points, the returns only counted (here,
+  /// and added to the scan at the next firing group and after the packet: flush()).
+  struct Outline {
+    static constexpr bool kOutline = true;
+    VelodyneScanner& scanner;
+    std::size_t points = 0;
+    double end = -std::numeric_limits<double>::infinity();
+    void group(int group, std::uint16_t azimuth, double time) {
+      flush();
+      scanner.group(group, azimuth, time);
+    }
+    void count(double time) {
+      ++points;
+      end = std::max(end, time);
+    }
+    void flush() {
+      Scan& s = scanner.current_;
+      s.outline_points += points;
+      s.end = std::max(s.end, end);
+      points = 0;
+      end = -std::numeric_limits<double>::infinity();
+    }
+  };
+
+  /// Points of the scan being assembled (decoded, or counted in outline mode).
+  [[nodiscard]] std::size_t current_points() const { return written_ + current_.outline_points; }
+
+  /// The scan being assembled, its arrays cut to the points written; a new one starts.
+  Scan take_current() {
+    current_.xyz.resize(written_);
+    current_.intensity.resize(written_);
+    current_.ring.resize(written_);
+    current_.return_id.resize(written_);
+    current_.stamps.resize(written_);
+    Scan out = std::move(current_);
+    current_ = Scan{};
+    written_ = 0;
+    return out;
+  }
+
+  /// Points are written in place (point()): the arrays are kept at least a packet's returns
+  /// ahead of the points written, sized up a chunk at a time within the reserved capacity.
+  void make_room() {
+    constexpr std::size_t kPacketReturns = kBlocks * 32;  // each return of a block at most once
+    constexpr std::size_t kChunk = 8192;
+    if (current_.xyz.size() >= written_ + kPacketReturns) return;
+    const std::size_t size = written_ + std::max(kChunk, kPacketReturns);
+    current_.xyz.resize(size);
+    current_.intensity.resize(size);
+    current_.ring.resize(size);
+    current_.return_id.resize(size);
+    current_.stamps.resize(size);
+  }
   static std::uint16_t block_azimuth_of(const Packet& p) { return block_azimuth(p, 0); }
 
   [[nodiscard]] double rotation_hz() const { return sum_dt_ > 0 ? sum_az_ / 100.0 / 360.0 / sum_dt_ : 10.0; }
@@ -689,9 +775,8 @@ class VelodyneScanner final : public Scanner {
     if (have_group_ && prev_phased_ - phased > 1000) {
       // The azimuth passed the cut: the rotation is done.
       current_.complete = started_at_cut_ && !lost_ && !lost;
-      expected_points_ = std::max(expected_points_, current_.size() + current_.size() / 8);
-      done_->push_back(std::move(current_));
-      current_ = Scan{};
+      expected_points_ = std::max(expected_points_, current_points() + current_points() / 8);
+      done_->push_back(take_current());
       started_at_cut_ = true;
       lost_ = lost;
       fresh_ = true;
@@ -705,6 +790,7 @@ class VelodyneScanner final : public Scanner {
       current_.first_packet = index_;
       fresh_ = false;
       reserve();
+      if (!outline_) make_room();
     }
     current_.last_packet = index_;
     current_.end = std::max(current_.end, time);
@@ -728,40 +814,25 @@ class VelodyneScanner final : public Scanner {
   }
 
   void point(const VelodyneReturn& r) {
-    current_.xyz.push_back(r.xyz);
-    current_.intensity.push_back(r.intensity);
-    current_.ring.push_back(r.ring);
-    current_.return_id.push_back(r.return_id);
-    current_.stamps.push_back(r.time);
+    const std::size_t k = written_++;  // make_room() made room for the packet
+    current_.xyz[k] = r.xyz;
+    current_.intensity[k] = r.intensity;
+    current_.ring[k] = r.ring;
+    current_.return_id[k] = r.return_id;
+    current_.stamps[k] = r.time;
     current_.end = std::max(current_.end, r.time);
   }
 
   void reserve() {
-    if (expected_points_ == 0) return;
+    if (expected_points_ == 0 || outline_) return;
     current_.xyz.reserve(expected_points_);
     current_.intensity.reserve(expected_points_);
     current_.ring.reserve(expected_points_);
     current_.return_id.reserve(expected_points_);
     current_.stamps.reserve(expected_points_);
-    huge_pages(current_.xyz);
-    huge_pages(current_.stamps);
-    huge_pages(current_.intensity);
-  }
-
-  /// Asks for transparent huge pages behind a scan's large arrays: a fresh scan of a 128-beam
-  /// sensor is ~10 MB, and faulting it in 4 KB pages cost a quarter of the decoding time.
-  template <class T>
-  static void huge_pages(std::vector<T>& v) {
-#ifdef __linux__
-    constexpr std::uintptr_t kHuge = 2u << 20;
-    const auto begin = reinterpret_cast<std::uintptr_t>(v.data());
-    const std::uintptr_t end = begin + v.capacity() * sizeof(T);
-    const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
-    if (end > first + kHuge)
-      madvise(reinterpret_cast<void*>(first), (end - first) & ~(kHuge - 1), MADV_HUGEPAGE);
-#else
-    (void)v;
-#endif
+    advise_huge_pages(current_.xyz);
+    advise_huge_pages(current_.stamps);
+    advise_huge_pages(current_.intensity);
   }
 
   VelodyneDecoder decoder_;
@@ -780,10 +851,12 @@ class VelodyneScanner final : public Scanner {
   bool packet_gap_ = false;
 
   Scan current_;
+  std::size_t written_ = 0;  ///< points of current_ (its arrays may be longer: make_room())
   std::vector<Scan>* done_ = nullptr;
   bool have_group_ = false, started_at_cut_ = false, lost_ = false, fresh_ = true;
   int prev_phased_ = 0, prev_group_az_ = 0;
   std::size_t expected_points_ = 0;
+  bool outline_ = false;
 };
 
 }  // namespace detail

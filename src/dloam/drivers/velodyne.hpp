@@ -110,7 +110,10 @@ class VelodyneDecoder {
   /// Nominal time between two data packets (µs) for a return mode byte.
   [[nodiscard]] double packet_period_us(std::uint8_t return_mode) const;
   /// True when corrected azimuth `azimuth` (0.01 deg) is inside the field of view.
-  [[nodiscard]] bool in_fov(int azimuth) const;
+  [[nodiscard]] bool in_fov(int azimuth) const {
+    if (fov_min_ <= fov_max_) return azimuth >= fov_min_ && azimuth <= fov_max_;
+    return azimuth >= fov_min_ || azimuth <= fov_max_;
+  }
 
  private:
   friend class detail::VelodyneScanner;

@@ -42,8 +42,9 @@ class PcapStream : public PacketStream {
     p.size = d_.payload.size();
     p.stamp = d_.time;
     p.port = d_.dst_port;
-    p.where = shared_->path + ": packet " + std::to_string(d_.index) + " (record " +
-              std::to_string(d_.record) + ")";
+    // Assigned in place: the string keeps its buffer from packet to packet.
+    p.where.assign(shared_->path).append(": packet ").append(std::to_string(d_.index));
+    p.where.append(" (record ").append(std::to_string(d_.record)).append(")");
     return true;
   }
   [[nodiscard]] std::optional<PacketCheckpoint> checkpoint() const override {
@@ -112,8 +113,9 @@ class BagPacketStream : public PacketStream {
     p.size = s.size;
     p.stamp = s.stamp != 0.0 ? s.stamp : msg_.stamp;
     p.port = 0;
-    p.where = bag_->where(topic_, message_) + ", packet " + std::to_string(slot_) + " (packet " +
-              std::to_string(packet_) + " of the topic)";
+    // Assigned in place: the string keeps its buffer from packet to packet.
+    p.where.assign(where_).append(", packet ").append(std::to_string(slot_));
+    p.where.append(" (packet ").append(std::to_string(packet_)).append(" of the topic)");
     ++slot_;
     ++packet_;
     return true;
@@ -130,6 +132,7 @@ class BagPacketStream : public PacketStream {
                                  1e-9 * static_cast<double>(bag_->message_time_ns(topic_, k)),
                                  bag_->where(topic_, k));
     message_ = k;
+    where_ = bag_->where(topic_, k);
     loaded_ = true;
   }
   std::shared_ptr<const Bag> bag_;
@@ -138,6 +141,7 @@ class BagPacketStream : public PacketStream {
   bool loaded_ = false;
   std::vector<std::uint8_t> data_;
   PacketMessage msg_;
+  std::string where_;  ///< the message's
 };
 
 class BagPacketRecording : public PacketRecording {
@@ -176,11 +180,15 @@ bool same_scan(const drivers::Scan& s, const ScanEntry& e) {
 
 class PacketSource : public ScanSource {
  public:
-  PacketSource(std::shared_ptr<PacketRecording> recording, ScannerFactory factory, FirstPackets first,
+  /// `prototype`: a fresh scanner to restart() for each decoding session; without one (a
+  /// scanner that cannot restart), `factory` makes them from `first`.
+  PacketSource(std::shared_ptr<PacketRecording> recording, ScannerFactory factory,
+               std::unique_ptr<drivers::Scanner> prototype, FirstPackets first,
                std::vector<ScanEntry> entries, std::vector<std::size_t> kept, double rate,
                std::string scanner_line, std::size_t packets)
       : recording_(std::move(recording)),
         factory_(std::move(factory)),
+        prototype_(std::move(prototype)),
         first_(std::move(first)),
         entries_(std::move(entries)),
         kept_(std::move(kept)),
@@ -201,7 +209,7 @@ class PacketSource : public ScanSource {
                "scan " + std::to_string(i) + " does not decode again as it did when indexed");
       }
     }
-    return to_point_cloud(scan, rate_);
+    return to_point_cloud(std::move(scan), rate_);
   }
 
   [[nodiscard]] std::string describe() const override {
@@ -223,7 +231,8 @@ class PacketSource : public ScanSource {
   void start_session(const std::optional<PacketCheckpoint>& from) const {
     session_ = std::make_unique<Session>();
     session_->stream = recording_->open(from ? &*from : nullptr);
-    session_->scanner = factory_(first_.packets);
+    session_->scanner = prototype_ ? prototype_->restart() : nullptr;
+    if (!session_->scanner) session_->scanner = factory_(first_.packets);
     session_->fed = from ? from->packet : 0;
   }
 
@@ -258,6 +267,7 @@ class PacketSource : public ScanSource {
 
   std::shared_ptr<PacketRecording> recording_;
   ScannerFactory factory_;
+  std::unique_ptr<drivers::Scanner> prototype_;
   FirstPackets first_;
   std::vector<ScanEntry> entries_;
   std::vector<std::size_t> kept_;
@@ -280,14 +290,18 @@ std::shared_ptr<PacketRecording> bag_packet_recording(std::shared_ptr<const Bag>
 }
 
 FirstPackets first_packets(const PacketRecording& recording, std::size_t max_packets, std::size_t max_bytes) {
-  FirstPackets out;
   auto stream = recording.open();
+  return first_packets(*stream, max_packets, max_bytes);
+}
+
+FirstPackets first_packets(PacketStream& stream, std::size_t max_packets, std::size_t max_bytes) {
+  FirstPackets out;
   drivers::Packet p;
   std::size_t bytes = 0;
-  std::vector<std::string> where;
   std::vector<drivers::Packet> meta;
-  while (out.bytes.size() < max_packets && bytes < max_bytes && stream->next(p)) {
+  while (out.bytes.size() < max_packets && bytes < max_bytes && stream.next(p)) {
     out.bytes.emplace_back(p.data, p.data + p.size);
+    out.after.push_back(stream.checkpoint());
     bytes += p.size;
     meta.push_back(p);
   }
@@ -299,46 +313,71 @@ FirstPackets first_packets(const PacketRecording& recording, std::size_t max_pac
   return out;
 }
 
+namespace {
+
+/// The per-point sweep fractions of a scan (empty without per-point stamps).
+std::vector<float> sweep_fractions(const drivers::Scan& scan, double scan_rate_hz) {
+  std::vector<float> time;
+  if (scan.stamps.size() != scan.xyz.size()) return time;
+  const float below_one = std::nextafter(1.0f, 0.0f);
+  time.resize(scan.xyz.size());
+  for (std::size_t k = 0; k < scan.xyz.size(); ++k) {
+    const double f = (scan.stamps[k] - scan.start) * scan_rate_hz;
+    time[k] = std::clamp(static_cast<float>(f), 0.0f, below_one);
+  }
+  return time;
+}
+
+}  // namespace
+
 PointCloud to_point_cloud(const drivers::Scan& scan, double scan_rate_hz) {
   PointCloud cloud;
   cloud.xyz = scan.xyz;
   if (scan.intensity.size() == scan.xyz.size()) cloud.intensity = scan.intensity;
-  if (scan.stamps.size() == scan.xyz.size()) {
-    const float below_one = std::nextafter(1.0f, 0.0f);
-    cloud.time.resize(scan.xyz.size());
-    for (std::size_t k = 0; k < scan.xyz.size(); ++k) {
-      const double f = (scan.stamps[k] - scan.start) * scan_rate_hz;
-      cloud.time[k] = std::clamp(static_cast<float>(f), 0.0f, below_one);
-    }
-  }
+  cloud.time = sweep_fractions(scan, scan_rate_hz);
+  return cloud;
+}
+
+PointCloud to_point_cloud(drivers::Scan&& scan, double scan_rate_hz) {
+  PointCloud cloud;
+  cloud.time = sweep_fractions(scan, scan_rate_hz);
+  if (scan.intensity.size() == scan.xyz.size()) cloud.intensity = std::move(scan.intensity);
+  cloud.xyz = std::move(scan.xyz);
   return cloud;
 }
 
 Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, ScannerFactory make_scanner,
                               const std::string& note) {
-  FirstPackets first = first_packets(*recording);
+  // One pass: the first packets (kept, to make the scanner from) are fed from their copies, the
+  // rest straight from the stream.
+  auto stream = recording->open();
+  std::optional<PacketCheckpoint> clean = stream->checkpoint();
+  FirstPackets first = first_packets(*stream);
   if (first.packets.empty()) {
     const std::string what = recording->describe();
     fail(recording->name(), "holds no packets (" + what + ")");
   }
   std::unique_ptr<drivers::Scanner> scanner = make_scanner(first.packets);
+  // The index needs the scans' outlines only; their points are decoded when read.
+  const bool outlined = scanner->outline_only(true);
   std::vector<ScanEntry> entries;
-  auto stream = recording->open();
-  std::optional<PacketCheckpoint> clean = stream->checkpoint();
   std::vector<drivers::Scan> done;
   drivers::Packet p;
   std::size_t fed = 0;
   auto record = [&](bool at_finish) {
     for (const auto& s : done)
-      entries.push_back({s.start, s.end, s.size(), s.complete, fed, at_finish, clean});
+      entries.push_back(
+          {s.start, s.end, outlined ? s.outline_points : s.size(), s.complete, fed, at_finish, clean});
     done.clear();
   };
-  while (stream->next(p)) {
-    scanner->add(p, done);
+  auto feed = [&](const drivers::Packet& packet, const std::optional<PacketCheckpoint>& after) {
+    scanner->add(packet, done);
     ++fed;
-    if (auto c = stream->checkpoint()) clean = c;
+    if (after) clean = after;
     record(false);
-  }
+  };
+  for (std::size_t k = 0; k < first.packets.size(); ++k) feed(first.packets[k], first.after[k]);
+  while (stream->next(p)) feed(p, stream->checkpoint());
   scanner->finish(done);
   record(true);
   std::vector<std::size_t> kept;
@@ -359,9 +398,15 @@ Sequence open_packet_sequence(std::shared_ptr<PacketRecording> recording, Scanne
     seq.scan_files.push_back(recording->name() + ": scan " + std::to_string(i));
     seq.times.push_back(entries[kept[i]].start);
   }
-  seq.source = std::make_shared<PacketSource>(std::move(recording), std::move(make_scanner), std::move(first),
-                                              std::move(entries), std::move(kept), rate,
-                                              scanner->describe() + (note.empty() ? "" : "; " + note), fed);
+  // Decoding sessions restart a scanner that shares the index scanner's tables (an Ouster
+  // scanner's xyz lookup table); only a scanner that cannot restart is made again from the first
+  // packets, which are then kept.
+  std::unique_ptr<drivers::Scanner> prototype = scanner->restart();
+  if (prototype) first = FirstPackets{};
+  seq.source =
+      std::make_shared<PacketSource>(std::move(recording), std::move(make_scanner), std::move(prototype),
+                                     std::move(first), std::move(entries), std::move(kept), rate,
+                                     scanner->describe() + (note.empty() ? "" : "; " + note), fed);
   return seq;
 }
 

@@ -1,8 +1,9 @@
 // Raw-packet recordings (pcap captures, ROS 2 bags of the drivers' packet messages) as dloam
 // sequences: the packets go through a vendor scanner (drivers/registry.hpp). Opening makes one
-// indexing pass that decodes every packet and records, per scan, where decoding can resume (a
-// rotation before it), its time and its point count; read_scan(i) then decodes only that stretch
-// again. The sensor model comes from the scanner (Sequence::sensor).
+// indexing pass over every packet, with the scanner set to outlines only (Scanner::outline_only:
+// no points decoded), and records, per scan, where decoding can resume (a rotation before it), its
+// time and its point count; read_scan(i) then decodes only that stretch, with points. The sensor
+// model comes from the scanner (Sequence::sensor).
 #pragma once
 
 #include <cstdint>
@@ -55,22 +56,33 @@ std::shared_ptr<PacketRecording> bag_packet_recording(std::shared_ptr<const Bag>
 using ScannerFactory =
     std::function<std::unique_ptr<drivers::Scanner>(const std::vector<drivers::Packet>& first_packets)>;
 
+/// How many packets from the start of a recording a scanner is made from, at most.
+constexpr std::size_t kFirstPackets = 1000;
+constexpr std::size_t kFirstPacketBytes = std::size_t{32} << 20;  ///< about
+
 /// The first packets of a recording, kept with their bytes (what a scanner is made from).
 struct FirstPackets {
   std::vector<std::vector<std::uint8_t>> bytes;
-  std::vector<drivers::Packet> packets;  ///< point into `bytes`
+  std::vector<drivers::Packet> packets;                ///< point into `bytes`
+  std::vector<std::optional<PacketCheckpoint>> after;  ///< the stream's checkpoint after each
 };
 /// Up to `max_packets` (and about `max_bytes`) packets from the start of the recording.
-FirstPackets first_packets(const PacketRecording& recording, std::size_t max_packets = 1000,
-                           std::size_t max_bytes = std::size_t{32} << 20);
+FirstPackets first_packets(const PacketRecording& recording, std::size_t max_packets = kFirstPackets,
+                           std::size_t max_bytes = kFirstPacketBytes);
+/// As above, the next packets of an open stream, which then stands after them.
+FirstPackets first_packets(PacketStream& stream, std::size_t max_packets = kFirstPackets,
+                           std::size_t max_bytes = kFirstPacketBytes);
 
 /// One scan of a decoded rotation as the pipeline takes it: xyz, intensity and per-point time.
 /// The per-point time is the one place where scan stamps become the pipeline's sweep fraction:
 /// (stamp - scan.start) * scan_rate_hz, clamped to [0, 1).
 PointCloud to_point_cloud(const drivers::Scan& scan, double scan_rate_hz);
+/// As above, moving the scan's points into the cloud.
+PointCloud to_point_cloud(drivers::Scan&& scan, double scan_rate_hz);
 
-/// Decodes the whole recording once (the index) and returns it as a sequence; `make_scanner`
-/// builds a fresh scanner from the first packets whenever a scan is decoded. Incomplete
+/// Reads the whole recording once (the index: scan outlines, Scanner::outline_only) and returns
+/// it as a sequence; `make_scanner` builds the indexing scanner from the first packets, and the
+/// scanner of each decoding session when it cannot restart() (Scanner::restart). Incomplete
 /// rotations (the head and tail of a recording, lost packets) are kept only when the recording
 /// has no complete one. Throws InputError for a recording without packets, packets no scanner
 /// decodes, a recording without a scan. `times` = scan start times, `sensor` = the scanner's model.

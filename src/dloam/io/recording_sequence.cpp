@@ -257,9 +257,21 @@ Sequence open_bag2_sequence(const std::string& path, const InputOptions& in) {
     return seq;
   }
   auto recording = bag_packet_recording(bag, topic, t.type);
-  const FirstPackets first = first_packets(*recording);
-  if (first.packets.empty()) fail(path, "topic " + topic + " holds no packets");
-  const drivers::Vendor vendor = drivers::identify(first.packets);
+  // The vendor of the first packet a decoder claims among the first packets (those a scanner
+  // is made from: first_packets()); the search stops there.
+  drivers::Vendor vendor = drivers::Vendor::kUnknown;
+  {
+    auto stream = recording->open();
+    drivers::Packet p;
+    std::size_t packets = 0, bytes = 0;
+    while (vendor == drivers::Vendor::kUnknown && packets < kFirstPackets && bytes < kFirstPacketBytes &&
+           stream->next(p)) {
+      ++packets;
+      bytes += p.size;
+      vendor = drivers::identify(p);
+    }
+    if (packets == 0) fail(path, "topic " + topic + " holds no packets");
+  }
   std::shared_ptr<TempFile> metadata;
   if (vendor == drivers::Vendor::kOuster && in.metadata.empty() && in.calibration.empty())
     metadata = bag_metadata_file(*bag);
