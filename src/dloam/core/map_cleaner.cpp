@@ -24,6 +24,21 @@ struct Votes {
   [[nodiscard]] bool through() const { return free > occupied; }
 };
 
+/// The same over the map window, with each view weighted by the scans it stands for (1 in the label
+/// window, map_stride beyond it): the shares are shares of the time the place was seen.
+struct TimeVotes {
+  std::uint16_t free_views = 0;
+  std::uint32_t free = 0, occupied = 0;
+  void add(int e, std::uint32_t weight) {
+    if (e > 0) {
+      if (free_views < 65535) ++free_views;
+      free += weight;
+    }
+    if (e < 0) occupied += weight;
+  }
+  [[nodiscard]] bool any() const { return free + occupied > 0; }
+};
+
 void check_config(const MapCleanerConfig& c) {
   auto bad = [](const std::string& what) { throw InputError("map cleaner config: " + what); };
   if (c.label_window < 1) bad("label_window must be at least 1");
@@ -131,7 +146,7 @@ void MapCleaner::decide(std::size_t j) {
     const Entry* e;
     Eigen::Matrix3f R;
     Eigen::Vector3f t;
-    bool near;
+    bool near, later;
   };
   std::vector<Viewer> viewers;
   const long lo = std::max(0L, static_cast<long>(j) - c.map_window);
@@ -141,14 +156,17 @@ void MapCleaner::decide(std::size_t j) {
     if (d == 0) continue;
     const bool near = d <= c.label_window;
     if (!near && (d - c.label_window) % c.map_stride != 0) continue;
+    const bool later = i > static_cast<long>(j);
     const Entry& v = entry(static_cast<std::size_t>(i));
     if ((v.pose.translation() - q.pose.translation()).norm() > c.max_view_distance) continue;
     const Pose rel = v.inverse * q.pose;  // query sensor -> viewer sensor
-    viewers.push_back({&v, rel.linear().cast<float>(), rel.translation().cast<float>(), near});
+    viewers.push_back({&v, rel.linear().cast<float>(), rel.translation().cast<float>(), near, later});
   }
 
   const std::size_t n = q.points.size();
-  std::vector<Votes> near_votes(n), all_votes(n);
+  std::vector<Votes> near_votes(n);
+  std::vector<TimeVotes> all_votes(n), later_votes(n);
+  const auto far_weight = static_cast<std::uint32_t>(c.map_stride);
   const double ground_h_own = q.ground_height;
   const Vec3 ground_n_own = q.ground_normal;
 
@@ -197,7 +215,8 @@ void MapCleaner::decide(std::size_t j) {
             if (!v.near && !far_checked) continue;
             const int e = evidence(v, v.R * p + v.t);
             if (e == 0) continue;
-            all_votes[k].add(e);
+            all_votes[k].add(e, v.near ? 1U : far_weight);
+            if (v.later) later_votes[k].add(e, v.near ? 1U : far_weight);
             if (v.near) near_votes[k].add(e);
           }
         }
@@ -205,8 +224,15 @@ void MapCleaner::decide(std::size_t j) {
 
   // For the map a place counts as empty when some views, not most, saw through it: a parked car
   // that leaves is seen occupied until then and empty after.
-  auto seen_empty = [&c](const Votes& v) {
-    return v.free >= c.map_min_free && v.free >= c.map_point_fraction * (v.free + v.occupied);
+  auto empty_share = [&c](const TimeVotes& v) {
+    return v.free_views >= c.map_min_free && v.free >= c.map_point_fraction * (v.free + v.occupied);
+  };
+  // The map keeps the place as last seen: a place that every later view saw occupied holds what
+  // came to stand there (seen empty before it arrived only).
+  auto seen_empty = [&](std::size_t k) {
+    const TimeVotes& later = later_votes[k];
+    if (later.any() && later.free == 0) return false;
+    return empty_share(all_votes[k]) || empty_share(later);
   };
 
   // Per cluster: points with evidence and points seen through more than occupied.
@@ -222,9 +248,10 @@ void MapCleaner::decide(std::size_t j) {
       ++near_with[u];
       near_thr[u] += near_votes[k].through();
     }
-    if (all_votes[k].any()) {
+    // Only the points checked by every view of the map window: the others saw its near part only.
+    if (all_votes[k].any() && k % static_cast<std::size_t>(c.far_point_stride) == 0) {
       ++all_with[u];
-      all_thr[u] += seen_empty(all_votes[k]);
+      all_thr[u] += seen_empty(k);
     }
   }
   std::vector<std::uint8_t> cluster_moving(near_with.size(), 0), cluster_ghost(near_with.size(), 0);
@@ -251,13 +278,14 @@ void MapCleaner::decide(std::size_t j) {
     } else if (l == 0) {
       // Points of no cluster: decided alone, and only on clear evidence.
       moving = near_votes[k].free >= 2 && near_votes[k].free > 2 * near_votes[k].occupied;
-      ghost = seen_empty(all_votes[k]) && all_votes[k].free > all_votes[k].occupied;
+      ghost = seen_empty(k) && all_votes[k].free > all_votes[k].occupied;
     }
     if (moving) out.labels[k] = semantic::kMovingGeneric;
     out.in_map[k] = !(moving || ghost);
   }
-  // Ground points next to a removed object in the image (its wheels, its lowest rows taken for
-  // ground) stay out of the map too: the ground there is mapped from the other scans.
+  // Ground points and points of no cluster next to a removed object in the image (its wheels, its
+  // lowest rows taken for ground, its edge points the segmentation left alone) stay out of the map
+  // too: the places there are mapped from the other scans.
   if (c.map_ground_dilation > 0) {
     std::vector<int> pixel(n, -1);
     std::vector<std::uint8_t> removed(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols), 0);
@@ -272,7 +300,7 @@ void MapCleaner::decide(std::size_t j) {
     }
     const int d = c.map_ground_dilation;
     for (std::size_t k = 0; k < n; ++k) {
-      if (q.point_label[k] != kGroundLabel || pixel[k] < 0) continue;
+      if (q.point_label[k] > 0 || pixel[k] < 0) continue;
       const int row = pixel[k] / cols, col = pixel[k] % cols;
       for (int dr = -d; dr <= d && out.in_map[k]; ++dr) {
         const int rr = row + dr;

@@ -14,9 +14,11 @@
 // Points are then decided per segmentation cluster, so whole objects flip: a cluster is moving
 // when enough of its points with evidence are mostly seen through. Labels use only the views of
 // the label window (a standing pedestrian or a parked car is static while it stands, as the
-// SemanticKITTI MOS labels define it); the map uses every view: a cluster whose place is seen
-// through at some other time of the map window (a parked car that left, a pedestrian who walked
-// away) stays out of the map even while it stood (no ghost).
+// SemanticKITTI MOS labels define it); the map uses every view, each weighted by the scans it
+// stands for: a cluster whose place is seen through for part of the map window (a parked car that
+// left, a pedestrian who walked away) stays out of the map even while it stood (no ghost). The map
+// keeps the place as last seen: a place that every later view saw occupied keeps what came to
+// stand there (a pedestrian who walked in and stays).
 //
 // Memory is bounded by the window: scans are added in time order and each scan's result is
 // released once the scans `map_window` after it have been added.

@@ -6,7 +6,7 @@ namespace dloam {
 
 /// The whole-drive cleaner (range-image visibility, both directions in time).
 struct MapCleanerConfig {
-  int label_window = 10;            ///< scans on each side whose views decide the labels
+  int label_window = 15;            ///< scans on each side whose views decide the labels
   int map_window = 60;              ///< scans on each side whose views decide what enters the map
   int map_stride = 4;               ///< beyond the label window, every N-th scan of the map window views
   double max_view_distance = 80.0;  ///< viewers farther than this from the scan (m) are skipped
@@ -17,15 +17,16 @@ struct MapCleanerConfig {
   double ground_clearance = 0.3;    ///< no seen-through evidence this close to the viewer's ground plane (m)
   int neighbour_rows = 1;           ///< neighbourhood of the pixel: +-rows ...
   int neighbour_cols = 1;           ///< ... and +-columns
-  double moving_fraction = 0.3;  ///< a cluster is moving when this fraction of its points with evidence ...
+  double moving_fraction = 0.2;  ///< a cluster is moving when this fraction of its points with evidence ...
   int min_moving_points = 4;     ///< ... and at least this many are seen through more than occupied
   int map_min_free = 2;          ///< map: a point's place is empty when at least this many views ...
-  double map_point_fraction = 0.25;  ///< ... and this fraction of its views saw through it
-  double map_fraction = 0.2;         ///< the same fraction over the map window keeps a cluster out of the map
+  double map_point_fraction = 0.25;  ///< ... and this share of the time it was seen (views weighted by
+                                     ///< the scans they stand for) saw through it
+  double map_fraction = 0.2;         ///< more than this fraction of its points seen empty keeps a cluster out
   int min_map_points = 4;            ///< ... with at least this many points
   int far_point_stride = 2;          ///< beyond the label window, every N-th point of a cluster is checked
   double map_leaf_size = 0.2;        ///< voxel size of the cleaned map (m), as the online map.ply
-  int map_ground_dilation = 2;  ///< ground pixels this close (pixels) to a removed object stay out of the map
+  int map_ground_dilation = 2;  ///< ground and unclustered pixels this close to a removed object stay out
   double map_max_range = 60.0;  ///< points farther from their scan stay out of the cleaned map (m)
 };
 

@@ -227,16 +227,19 @@ void visit(MapCleanerConfig& c, V& v) {
   v("min_moving_points", c.min_moving_points, "... and at least this many", at_least(1));
   v("map_min_free", c.map_min_free, "map: a point's place is empty when at least this many views ...",
     at_least(1));
-  v("map_point_fraction", c.map_point_fraction, "... and this fraction of its views saw through it",
+  v("map_point_fraction", c.map_point_fraction,
+    "... and this share of the time it was seen (views weighted by the scans they stand for) saw through it",
     Range{0, 1, true, false});
-  v("map_fraction", c.map_fraction, "the same fraction over the map window keeps a cluster out of the map",
+  v("map_fraction", c.map_fraction,
+    "more than this fraction of a cluster's points seen empty keeps it out of the map",
     Range{0, 1, true, true});
   v("min_map_points", c.min_map_points, "... with at least this many points", at_least(1));
   v("far_point_stride", c.far_point_stride, "beyond the label window, every N-th point is checked",
     at_least(1));
   v("map_leaf_size", c.map_leaf_size, "voxel size of the cleaned map (m)", above(0));
   v("map_ground_dilation", c.map_ground_dilation,
-    "ground pixels within this many pixels of a removed object stay out of the cleaned map", at_least(0));
+    "ground and unclustered pixels within this many pixels of a removed object stay out of the cleaned map",
+    at_least(0));
   v("map_max_range", c.map_max_range,
     "points farther than this from their scan stay out of the cleaned map (m)", above(0));
 }
