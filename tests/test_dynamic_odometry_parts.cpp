@@ -72,6 +72,10 @@ TEST(PseudoStaticRejection, RemovesWorstFeaturesAndImprovesThePose) {
   p.max_iterations = 20;
   p.max_correspondence = 1.0;
   p.huber = 1.0;  // a weak kernel, so the outliers pull the plain estimate
+  // The rejection alone: in this room 20 m across, rotations counted at 20 m fall under the
+  // scan-level threshold of 30 features' worth, which would keep them at the prior.
+  p.degeneracy.min_features = 5.0;
+
   PoseEstimator estimate = [&](const FeatureSource& src, const Pose& init) {
     return register_features(src, pb.target, init, p);
   };
@@ -97,6 +101,9 @@ TEST(PseudoStaticRejection, StopsAfterOneRoundWithoutOutliers) {
   make_problem(pb, 0.0);
   RegistrationParams p;
   p.max_correspondence = 1.0;
+  // The rejection alone: in this room 20 m across, rotations counted at 20 m fall under the
+  // scan-level threshold of 30 features' worth, which would keep them at the prior.
+  p.degeneracy.min_features = 5.0;
   int calls = 0;
   PoseEstimator estimate = [&](const FeatureSource& src, const Pose& init) {
     ++calls;

@@ -63,6 +63,9 @@ std::optional<LoopConstraint> verify_loop(const std::vector<Keyframe>& keyframes
   RegistrationParams rp;
   rp.max_iterations = params.max_iterations;
   rp.dof = kAllDof;
+  // No prior to keep here: the loop is refused only for a direction with almost nothing on it
+  // (min_features), not for one that a small share of the matches holds.
+  rp.degeneracy.min_fraction = 0.0;
   RegistrationResult r;
   r.T = cur.pose;
   for (double gate : {4.0, 2.0, 1.0}) {

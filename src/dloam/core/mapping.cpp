@@ -40,6 +40,8 @@ MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, c
     p.max_iterations = config_.max_iterations;
     p.max_correspondence = 1.0;
     p.dof = kAllDof;
+    p.degeneracy = degeneracy_;
+    p.prior = predicted;  // the odometry's motion along directions the map does not constrain
     out.registration = register_features(source, local_.around(predicted.translation()), predicted, p);
     out.pose = out.registration.T;
   }

@@ -37,8 +37,8 @@ struct MappingConfig {
 LoopParams loop_params(const MappingConfig& config, double scan_rate_hz);
 
 struct MappingResult {
-  Pose pose = Pose::Identity();  ///< refined world pose of the scan (loop-corrected when `loop` is set)
-  RegistrationResult registration;
+  Pose pose = Pose::Identity();     ///< refined world pose of the scan (loop-corrected when `loop` is set)
+  RegistrationResult registration;  ///< scan-to-map (its degeneracy: directions the map left unconstrained)
   bool keyframe = false;
   std::optional<LoopConstraint> loop;  ///< a loop closed at this scan (then every keyframe pose moved)
 };
@@ -46,8 +46,12 @@ struct MappingResult {
 class Mapper {
  public:
   /// `scan_rate_hz` converts the config's loop_min_time_s to scans (pass SensorConfig::scan_rate_hz).
-  explicit Mapper(const MappingConfig& config, double scan_rate_hz = 10.0)
+  /// `degeneracy`: directions of the scan-to-map registration the map does not constrain keep the
+  /// predicted pose.
+  explicit Mapper(const MappingConfig& config, double scan_rate_hz = 10.0,
+                  const DegeneracyConfig& degeneracy = {})
       : config_(config),
+        degeneracy_(degeneracy),
         local_(config.local_map_radius, config.edge_leaf_size, config.plane_leaf_size),
         loop_params_(loop_params(config, scan_rate_hz)),
         global_(config.map_leaf_size) {}
@@ -85,6 +89,7 @@ class Mapper {
   void close_loop(MappingResult& out);
 
   MappingConfig config_;
+  DegeneracyConfig degeneracy_;
   LocalMap local_;
   LoopParams loop_params_;
   std::vector<PoseGraphEdge> edges_;  // odometry edges between consecutive keyframes, loop edges

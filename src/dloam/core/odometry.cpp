@@ -5,7 +5,8 @@
 namespace dloam {
 
 OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Pose& predicted,
-                                            bool with_rejection, bool level) const {
+                                            bool with_rejection, bool level,
+                                            const std::optional<Pose>& prior) const {
   OdometryResult out;
   out.motion = predicted;
   if (previous_) {
@@ -13,7 +14,8 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
     p.max_correspondence = config_.max_correspondence;
-    p.degeneracy_eigenvalue = 10.0;  // per 3-DoF step, as LeGO-LOAM; the sharp sets are small
+    p.degeneracy = degeneracy_;
+    p.prior = prior.value_or(predicted);
 
     auto two_step = [&](const FeatureSource& src, const Pose& initial) {
       if (!level) {
@@ -44,6 +46,11 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
       two_step(sharp, out.motion);
     }
     out.motion = out.edge_step.T;
+    const Mat6 H = level ? Mat6(out.plane_step.normal_matrix + out.edge_step.normal_matrix)
+                         : out.edge_step.normal_matrix;
+    int matches = out.edge_step.edge_matches + out.edge_step.plane_matches;
+    if (level) matches += out.plane_step.edge_matches + out.plane_step.plane_matches;
+    out.degeneracy = analyse_degeneracy(H, matches, kAllDof, degeneracy_);
   }
   return out;
 }

@@ -2,10 +2,12 @@
 // (f_e, f_p) are matched against all features of the previous scan (F_e, F_p). Step 1 uses the
 // plane features for [t_z, roll, pitch], step 2 the edge features for [t_x, t_y, yaw]. With the
 // dynamic-object detector on, the two-step estimate can run inside the RANSAC pseudo-static
-// feature rejection (pseudo_static_rejection.hpp, N_pseudo, beta).
+// feature rejection (pseudo_static_rejection.hpp, N_pseudo, beta). Directions the features do not
+// constrain (degeneracy.hpp) keep the motion prior, the constant-velocity prediction.
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "dloam/core/registration.hpp"
 
@@ -33,6 +35,9 @@ struct OdometryResult {
   Pose motion = Pose::Identity();  ///< T^{k -> k-1}: current scan frame -> previous scan frame
   RegistrationResult plane_step;
   RegistrationResult edge_step;
+  /// The scan's features together (both steps' normal matrices added, all six degrees of
+  /// freedom, at the estimate): degenerate when some direction of the motion is unconstrained.
+  Degeneracy degeneracy;
   bool initialized = false;  ///< false for the first scan (no previous features)
   int rejection_rounds = 0;  ///< pseudo-static rejection: estimates made (0 = not used)
   std::size_t rejected = 0;  ///< pseudo-static rejection: features removed
@@ -40,22 +45,26 @@ struct OdometryResult {
 
 class ScanToScanOdometry {
  public:
-  explicit ScanToScanOdometry(const OdometryConfig& config) : config_(config) {}
+  explicit ScanToScanOdometry(const OdometryConfig& config, const DegeneracyConfig& degeneracy = {})
+      : config_(config), degeneracy_(degeneracy) {}
 
   /// `sharp`: f_e / f_p of the current scan with their weights; `all_edges` / `all_planes`:
   /// F_e / F_p of the current scan, kept as the next scan's target. `predicted`: initial motion.
   /// `with_rejection`: run the RANSAC pseudo-static rejection when the config enables it.
   OdometryResult process(const FeatureSource& sharp, std::vector<Vec3> all_edges,
                          std::vector<Vec3> all_planes, const Pose& predicted, bool with_rejection = false) {
-    OdometryResult out = estimate(sharp, predicted, with_rejection);
+    OdometryResult out = estimate(sharp, predicted, with_rejection, true, predicted);
     set_previous(std::move(all_edges), std::move(all_planes));
     return out;
   }
   /// The motion of `sharp` against the previous scan's features (predicted motion when none yet).
   /// `level`: the sensor's z axis is (close to) vertical, so the two-step LM applies; otherwise all
-  /// six degrees of freedom are estimated together.
+  /// six degrees of freedom are estimated together. `prior`: the motion kept along directions the
+  /// features do not constrain (the constant-velocity prediction; none: `predicted`, the initial
+  /// guess).
   [[nodiscard]] OdometryResult estimate(const FeatureSource& sharp, const Pose& predicted,
-                                        bool with_rejection = false, bool level = true) const;
+                                        bool with_rejection = false, bool level = true,
+                                        const std::optional<Pose>& prior = std::nullopt) const;
   /// F_e / F_p of the current scan become the next scan's target.
   void set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes);
   /// The previous scan's F_e / F_p, or null before the first scan.
@@ -63,6 +72,7 @@ class ScanToScanOdometry {
 
  private:
   OdometryConfig config_;
+  DegeneracyConfig degeneracy_;
   std::unique_ptr<FeatureMap> previous_;
 };
 

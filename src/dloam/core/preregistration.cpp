@@ -181,6 +181,7 @@ CoarseResult coarse_motion(const ObjectSet& current, const FeatureMap& target, c
   p.max_iterations = 2;  // per round; the rounds continue from the previous estimate
   p.max_correspondence = 1.0;
   p.huber = 0.2;
+  p.prior = predicted;  // directions the objects do not constrain keep the prediction
   // The source needs only a few hundred points per object type; the target keeps all.
   FeatureSource src{thin(current.poles, 300), thin(current.planes, 400), {}, {}};
   CoarseResult r =

@@ -28,7 +28,23 @@ Mat36 point_jacobian(const Vec3& q, const Vec3& c) {
   return J;
 }
 
+using Mat6Dyn = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+
 double huber_weight(double r, double k) { return r <= k ? 1.0 : k / r; }
+
+/// The motion exp(delta) with its rotation about c: p -> c + exp(delta) (p - c).
+Pose step_about(const Vec6& delta, const Vec3& c) {
+  Pose step = exp_se3(delta);
+  step.translation() += c - step.linear() * c;
+  return step;
+}
+
+/// The twist delta with step_about(delta, c) == M.
+Vec6 twist_about(const Pose& M, const Vec3& c) {
+  Pose about_origin = M;
+  about_origin.translation() = M.translation() - c + M.linear() * c;
+  return log_se3(about_origin);
+}
 
 /// Mean and covariance eigen-decomposition (ascending eigenvalues) of the neighbours.
 struct Neighbourhood {
@@ -130,6 +146,8 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
 
   std::vector<Association> assoc(n);
   Pose associated_at;  // pose of the last association
+  bool analysed = false;
+  Mat6Dyn constrained;  // scaled twist directions the iterations move along
   for (int it = 0; it < params.max_iterations; ++it) {
     res.iterations = it + 1;
     const Pose T = res.T;
@@ -170,37 +188,50 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     }
     const int matches = res.edge_matches + res.plane_matches;
     res.mean_residual = matches > 0 ? sum_r / matches : 0.0;
-    if (matches < 10) {  // too few correspondences to constrain the pose: the guess stands
+    res.normal_matrix = H;
+    if (matches < 10) {  // too few correspondences to constrain the pose: the prior stands
       res.degenerate = true;
+      res.degeneracy = analyse_degeneracy(H, matches, params.dof, params.degeneracy);
+      res.degeneracy.unconstrained = res.degeneracy.free;
+      if (params.prior && nf > 0) res.T = *params.prior;
       break;
     }
     if (nf == 0) break;  // only the residuals at `initial` were asked for
 
-    Eigen::MatrixXd Hs(nf, nf);
-    Eigen::VectorXd gs(nf);
-    for (Eigen::Index a = 0; a < nf; ++a) {
-      gs(a) = g(free[static_cast<std::size_t>(a)]);
-      for (Eigen::Index b = 0; b < nf; ++b)
-        Hs(a, b) = H(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
-    }
-    // Solve in the eigenbasis and leave out directions the geometry does not constrain (LOAM).
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs);
-    Eigen::VectorXd proj = es.eigenvectors().transpose() * gs;
-    res.degenerate = false;
-    for (Eigen::Index a = 0; a < nf; ++a) {
-      if (es.eigenvalues()(a) < params.degeneracy_eigenvalue) {
-        proj(a) = 0.0;
-        res.degenerate = true;
-      } else {
-        proj(a) /= es.eigenvalues()(a);
+    const DegeneracyConfig& dc = params.degeneracy;
+    if (!analysed) {
+      // The unconstrained directions at the initial guess (Zhang, Kaess & Singh 2016). They stay
+      // fixed: re-deciding at every iteration let the estimate creep along a weak direction.
+      analysed = true;
+      res.degeneracy = analyse_degeneracy(H, matches, params.dof, dc);
+      res.degenerate = res.degeneracy.degenerate();
+      const int u = res.degeneracy.unconstrained;
+      constrained = res.degeneracy.eigenvectors.middleCols(u, nf - u);
+      if (u > 0 && params.prior) {
+        // Solution remapping: along the unconstrained directions the estimate takes the prior's
+        // value, then the iterations move it along the constrained ones only.
+        const Mat6Dyn unconstrained = res.degeneracy.eigenvectors.leftCols(u);
+        const Vec6 to_prior = to_scaled(twist_about(*params.prior * T.inverse(), c), dc);
+        const Vec6 shift = unconstrained * (unconstrained.transpose() * to_prior);
+        if (shift.norm() > 1e-9) {
+          res.T = normalized(step_about(from_scaled(shift, dc), c) * res.T);
+          continue;
+        }
       }
     }
-    const Eigen::VectorXd ds = -(es.eigenvectors() * proj);
-    Vec6 delta = Vec6::Zero();
-    for (Eigen::Index a = 0; a < nf; ++a) delta(free[static_cast<std::size_t>(a)]) = ds(a);
-    Pose step = exp_se3(delta);  // about c: c + exp(delta) (q - c)
-    step.translation() += c - step.linear() * c;
-    res.T = normalized(step * res.T);
+    if (constrained.cols() == 0) break;  // nothing the geometry constrains: the prior stands
+    // Gauss-Newton over the constrained directions: H and g in scaled coordinates, projected.
+    Mat6 Hs = H;
+    Vec6 gs = g;
+    for (int i = 0; i < 3; ++i) {
+      Hs.row(i) /= dc.rotation_radius;
+      Hs.col(i) /= dc.rotation_radius;
+      gs(i) /= dc.rotation_radius;
+    }
+    const Eigen::MatrixXd Hq = constrained.transpose() * Hs * constrained;
+    const Eigen::VectorXd gq = constrained.transpose() * gs;
+    const Vec6 delta = from_scaled(-(constrained * Hq.ldlt().solve(gq)), dc);
+    res.T = normalized(step_about(delta, c) * res.T);
     if (delta.head<3>().norm() < params.convergence_rotation &&
         delta.tail<3>().norm() < params.convergence_translation)
       break;

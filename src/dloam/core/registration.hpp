@@ -1,13 +1,15 @@
 // Feature registration by Levenberg-Marquardt / Gauss-Newton: point-to-line residuals for edge
 // features and point-to-plane residuals for plane features (LOAM / LeGO-LOAM, paper III.F-G),
 // with a subset of the six degrees of freedom free (the two-step LM of the odometry),
-// per-feature weights (distance weights and eq. 15 compensation), a robust kernel, and LOAM's
-// degeneracy handling (no update along directions the geometry does not constrain).
+// per-feature weights (distance weights and eq. 15 compensation), a robust kernel, and solution
+// remapping (degeneracy.hpp): along directions the geometry does not constrain, the estimate keeps
+// the motion prior instead of the update.
 #pragma once
 
-#include <array>
+#include <optional>
 #include <vector>
 
+#include "dloam/core/degeneracy.hpp"
 #include "dloam/core/kdtree.hpp"
 #include "dloam/core/se3.hpp"
 
@@ -34,19 +36,17 @@ inline double& feature_weight(FeatureSource& src, std::size_t i) {
   return i < src.edges.size() ? src.edge_weights[i] : src.plane_weights[i - src.edges.size()];
 }
 
-/// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order, target
-/// frame axes; rotations about the current sensor position).
-using DofMask = std::array<bool, 6>;
-inline constexpr DofMask kAllDof = {true, true, true, true, true, true};
-inline constexpr DofMask kPlaneStepDof = {true, true, false, false, false, true};  ///< roll, pitch, tz
-inline constexpr DofMask kEdgeStepDof = {false, false, true, true, true, false};   ///< yaw, tx, ty
-
 struct RegistrationParams {
   int max_iterations = 20;
   double max_correspondence = 1.0;  ///< m: neighbours farther than this give no residual
   int neighbours = 5;
-  double huber = 0.1;                     ///< m: robust kernel width
-  double degeneracy_eigenvalue = 50.0;    ///< eigenvalues of J^T J below this are not updated
+  double huber = 0.1;  ///< m: robust kernel width
+  /// Which directions count as unconstrained. They are found at the initial guess (first
+  /// iteration) and stay fixed: the iterations then minimise over the constrained directions only.
+  DegeneracyConfig degeneracy;
+  /// The motion prior: along unconstrained directions the estimate takes its value (solution
+  /// remapping). None: the initial guess's.
+  std::optional<Pose> prior;
   double convergence_rotation = 1e-5;     ///< rad
   double convergence_translation = 1e-4;  ///< m
   /// Nearest neighbours are searched again when the pose moved more than this since the last search.
@@ -61,7 +61,13 @@ struct RegistrationResult {
   int edge_matches = 0;
   int plane_matches = 0;
   double mean_residual = 0.0;  ///< m, over matched features at the last iteration
-  bool degenerate = false;     ///< a direction the geometry does not constrain, or fewer than 10 matches
+  /// Some free direction the geometry does not constrain (kept from the prior), or fewer than 10
+  /// matches (the initial guess stands).
+  bool degenerate = false;
+  Degeneracy degeneracy;  ///< of the free directions, at the first iteration
+  /// J^T W J over all six degrees of freedom at the last iteration (twist coordinates about the
+  /// sensor position, rad and m): registrations of different features of one scan add up.
+  Mat6 normal_matrix = Mat6::Zero();
   /// Per-feature absolute residual of the last iteration (-1 when unmatched), edges then planes.
   std::vector<double> residuals;
 };

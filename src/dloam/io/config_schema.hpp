@@ -183,6 +183,17 @@ void visit(OdometryConfig& c, V& v) {
 }
 
 template <class V>
+void visit(DegeneracyConfig& c, V& v) {
+  v("min_features", c.min_features,
+    "a direction of motion constrained by less than this many features' worth of residual keeps the prior",
+    at_least(0));
+  v("min_fraction", c.min_fraction,
+    "... or by less than this share of the matched features' worth (both 0: never degenerate)", within(0, 1));
+  v("rotation_radius", c.rotation_radius,
+    "m: rotations count as the displacement they cause at this distance", above(0));
+}
+
+template <class V>
 void visit(MappingConfig& c, V& v) {
   v("every_n_scans", c.every_n_scans, "mapping rate = scan rate / every_n_scans (paper: 2 Hz)", at_least(1));
   v("latency_scans", c.latency_scans,
@@ -257,6 +268,8 @@ void visit(PipelineConfig& c, V& v) {
   v.group("features", c.features, "III.E feature extraction (eq. 14)");
   v.group("odometry", c.odometry, "III.F two-step LM odometry (eq. 15)");
   v.group("mapping", c.mapping, "III.G scan-to-map mapping and loop closure");
+  v.group("degeneracy", c.degeneracy,
+          "directions the features do not constrain keep the motion prior (odometry and mapping)");
   v.group("clean", c.clean,
           "the whole-drive pass (dloam clean): range-image visibility, both directions in time");
   v("threads", c.threads, "worker threads of the pipeline", within(1, 256));

@@ -12,7 +12,8 @@ void write_timing_csv(const std::string& path, const std::vector<ScanResult>& re
     out << "scan";
     for (auto name : kModuleNames) out << ',' << name << "_ms";
     out << ",edges,planes,mapped,keyframe,loop_closed,degenerate,dt_s,missed_scans,prior_fitness,fitness,"
-           "searched,reinitialized,lost\n";
+           "searched,reinitialized,lost,constraint,unconstrained,matches,map_constraint,map_unconstrained,"
+           "map_matches\n";
     char buf[32];
     for (const auto& r : results) {
       out << r.index;
@@ -25,8 +26,18 @@ void write_timing_csv(const std::string& path, const std::vector<ScanResult>& re
       std::snprintf(buf, sizeof(buf), "%.6f", r.dt);
       out << ',' << buf << ',' << r.missed_scans;
       std::snprintf(buf, sizeof(buf), "%.3f,%.3f", r.prior_fitness, r.fitness);
-      out << ',' << buf << ',' << (r.search_candidates > 0) << ',' << r.reinitialized << ',' << r.lost
-          << '\n';
+      out << ',' << buf << ',' << (r.search_candidates > 0) << ',' << r.reinitialized << ',' << r.lost;
+      // Degeneracy: the smallest eigenvalue (features' worth), the axes of the unconstrained
+      // directions, the matched features; empty where nothing was registered.
+      for (const Degeneracy* d : {&r.degeneracy, &r.map_degeneracy}) {
+        if (d->free == 0) {
+          out << ",,,";
+          continue;
+        }
+        std::snprintf(buf, sizeof(buf), "%.1f", d->weakest());
+        out << ',' << buf << ',' << unconstrained_names(*d) << ',' << d->matches;
+      }
+      out << '\n';
     }
   });
 }

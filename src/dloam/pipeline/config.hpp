@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "dloam/core/degeneracy.hpp"
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/dynamic_detector.hpp"
 #include "dloam/core/features.hpp"
@@ -41,7 +42,8 @@ struct PipelineConfig {
   FeatureConfig features;
   OdometryConfig odometry;
   MappingConfig mapping;
-  MapCleanerConfig clean;  ///< the whole-drive pass (`dloam clean`), not the online pipeline
+  DegeneracyConfig degeneracy;  ///< both registrations: odometry (scan-to-scan) and mapping (scan-to-map)
+  MapCleanerConfig clean;       ///< the whole-drive pass (`dloam clean`), not the online pipeline
   int threads = 2;
 };
 

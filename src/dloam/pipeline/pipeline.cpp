@@ -59,8 +59,8 @@ std::vector<std::size_t> static_points(const std::vector<Label>& labels, const S
 
 Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn)
     : config_(config),
-      odometry_(config.odometry),
-      mapper_(config.mapping, config.sensor.scan_rate_hz),
+      odometry_(config.odometry, config.degeneracy),
+      mapper_(config.mapping, config.sensor.scan_rate_hz, config.degeneracy),
       motion_(config.motion) {
   config_.sensor.validate();
   CnnModelInfo given;  // a segmenter handed over is taken to fit the sensor
@@ -248,11 +248,16 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // T_coarse (static poles / planes, III.D.1) is the initial guess when valid; the features
     // were de-skewed with it.
     const Pose initial = dynamic_ && dyn.coarse_valid ? dyn.T_coarse : predicted;
+    // What unconstrained directions keep: the constant-velocity prediction, or with no velocity
+    // yet, the initial guess (the first step's search).
+    const Pose motion_prior = motion_.known() ? predicted : initial;
     // T_coarse passed the motion gate (and is aligned on the range images when refined): an
     // odometry that moves farther than the gate from it has slid along repeated structure (a
-    // highway's guard-rail posts, one spacing along) and is not believed.
+    // highway's guard-rail posts, one spacing along) and is not believed. Unless some direction is
+    // unconstrained: the odometry kept the constant-velocity prediction there, T_coarse did not.
     const auto believe = [&](auto odometry) {
-      if (dynamic_ && dyn.coarse_valid && !prior.gate.admits(initial.inverse() * odometry.motion))
+      if (dynamic_ && dyn.coarse_valid && !odometry.degeneracy.degenerate() &&
+          !prior.gate.admits(initial.inverse() * odometry.motion))
         odometry.motion = initial;
       return odometry;
     };
@@ -261,12 +266,12 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // de-skewed scan to a skewed one is biased by the sweep's motion (a first step up to 6 cm short
     // at 25 km/h, which the map built on the first scan then keeps).
     if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(interval.sweep_motion(initial));
-    auto odo = believe(odometry_.estimate(sharp, initial, reject, level));
+    auto odo = believe(odometry_.estimate(sharp, initial, reject, level, motion_prior));
     if (first_pair) {
       // The first motion is known; de-skew the first scan with it (constant velocity) and
       // estimate again against the corrected target.
       deskew_first_scan(interval.sweep_motion(odo.motion));
-      odo = believe(odometry_.estimate(sharp, odo.motion, reject, level));
+      odo = believe(odometry_.estimate(sharp, odo.motion, reject, level, motion_prior));
       first_->raw.clear();  // done
     }
     if (!times.empty() && count_ > 0) {
@@ -280,7 +285,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
         const SweepMotion sweep = interval.sweep_motion(odo.motion);
         sharp.edges = deskew(raw, times, features.f_e_index, sweep);
         sharp.planes = deskew(raw, times, features.f_p_index, sweep);
-        odo = believe(odometry_.estimate(sharp, odo.motion, reject, level));
+        odo = believe(odometry_.estimate(sharp, odo.motion, reject, level, motion_prior));
       }
       const SweepMotion sweep = interval.sweep_motion(odo.motion);
       features.F_e = deskew(raw, times, features.F_e_index, sweep);
@@ -297,7 +302,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     odometry_.set_previous(features.F_e, features.F_p);
     out.rejected_features = odo.rejected;
     odometry_pose_ = normalized(odometry_pose_ * odo.motion);
-    out.degenerate = odo.plane_step.degenerate || odo.edge_step.degenerate;
+    out.degeneracy = odo.degeneracy;
+    out.degenerate = odo.initialized && odo.degeneracy.degenerate();
   }
   out.odometry_pose = odometry_pose_;
   if (dynamic_) dynamic_->refine_pose(odometry_pose_);
@@ -318,7 +324,17 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   // The constant-velocity prediction is the odometry's last motion over the time it took: mapping
   // corrections (and loop closures) move the integrated pose in jumps when they arrive, which are
   // not motion.
-  if (count_ > 0) motion_.update(odometry_poses_[count_ - 1].inverse() * odometry_pose_, interval.dt);
+  // When the odometry kept the prediction along some direction its step says nothing new there:
+  // the velocity is the last step of the scan-to-map registration (scans k-2 -> k-1), which the
+  // map constrains where the previous scan did not.
+  const std::size_t m = mapped_.size();
+  if (count_ > 0 && out.degenerate && m >= 2 && mapped_[m - 1].first + 1 == count_ &&
+      mapped_[m - 2].first + 2 == count_ && previous_dt_ > 0.0) {
+    motion_.update(mapped_[m - 2].second.inverse() * mapped_[m - 1].second, previous_dt_);
+  } else if (count_ > 0) {
+    motion_.update(odometry_poses_[count_ - 1].inverse() * odometry_pose_, interval.dt);
+  }
+  previous_dt_ = count_ > 0 ? interval.dt : 0.0;
   last_pose_ = out.pose;
   // The next step check compares with this scan's static part: moving objects cannot vouch for a
   // motion (traffic moving with the sensor agrees with standing still).
@@ -422,6 +438,7 @@ void Pipeline::integrate_job(ScanResult* out) {
   mapped_.emplace_back(job.scan, o.result.pose);
   if (out) {
     out->loop_closed = out->loop_closed || o.result.loop.has_value();
+    out->map_degeneracy = o.result.registration.degeneracy;
     out->times[Module::kMapping] += o.ms;
   }
 }

@@ -39,7 +39,14 @@ struct ScanResult {
   bool mapped = false;                      ///< a scan-to-map job was started for this scan
   bool keyframe = false;                    ///< ... and the scan becomes a keyframe
   bool loop_closed = false;  ///< a loop-closure correction was integrated at this scan (pose jump)
+  /// Some direction of the scan's motion is not constrained by its features against the previous
+  /// scan's (the smallest eigenvalue of the odometry's normal matrix below
+  /// degeneracy.min_features, or too few features): the motion prior was kept along it.
   bool degenerate = false;
+  Degeneracy degeneracy;  ///< of the scan-to-scan odometry (all features, six degrees of freedom)
+  /// Of the scan-to-map registration integrated at this scan (the job of scan index -
+  /// mapping.latency_scans, see times[kMapping]); free == 0 when none was integrated.
+  Degeneracy map_degeneracy;
   /// The step check (the prediction against the previous scan's surfaces, see Pipeline::process):
   /// fraction of the probe points that fit with the prediction and with the final estimate.
   double prior_fitness = 0.0, fitness = 0.0;
@@ -143,9 +150,10 @@ class Pipeline {
   Pose last_pose_ = Pose::Identity();
   MotionModel motion_;  ///< the constant-velocity prior, in physical units
   std::optional<double> last_stamp_;
-  std::vector<float> previous_range_;                 ///< the previous scan's range image
-  double fit_reference_ = 0.0;                        ///< what recent estimates fit (running mean)
-  std::vector<Pose> odometry_poses_;                  ///< per scan
+  double previous_dt_ = 0.0;           ///< s between the previous scan and the one before (0: none)
+  std::vector<float> previous_range_;  ///< the previous scan's range image
+  double fit_reference_ = 0.0;         ///< what recent estimates fit (running mean)
+  std::vector<Pose> odometry_poses_;   ///< per scan
   std::vector<std::pair<std::size_t, Pose>> mapped_;  ///< (scan, refined pose) of integrated jobs
   std::optional<FirstScan> first_;
   bool keyframe_without_points_ = false;  ///< the newest keyframe's scan added no map points

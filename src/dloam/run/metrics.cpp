@@ -1,6 +1,8 @@
 #include "dloam/run/metrics.hpp"
 
 #include <algorithm>
+#include <map>
+#include <string>
 
 namespace dloam::run {
 
@@ -94,23 +96,38 @@ json LabelStats::json() const {
 }
 
 json tracking_json(const std::vector<ScanResult>& results) {
-  std::size_t gaps = 0, missed = 0, degenerate = 0, searched = 0, reinitialized = 0;
+  std::size_t gaps = 0, missed = 0, degenerate = 0, map_degenerate = 0, searched = 0, reinitialized = 0;
+  // Per axis: scans with an unconstrained direction mostly along it (odometry, scan-to-map).
+  std::map<std::string, std::size_t> axes, map_axes;
+  auto count_axes = [](const Degeneracy& d, std::map<std::string, std::size_t>& into) {
+    for (int a = 0; a < d.unconstrained; ++a) ++into[direction_name(d.eigenvectors.col(a))];
+  };
   std::vector<std::size_t> lost;
   double max_dt = 0.0;
   for (const ScanResult& r : results) {
     gaps += r.missed_scans > 0;
     missed += static_cast<std::size_t>(r.missed_scans);
     degenerate += r.degenerate;
+    map_degenerate += r.map_degeneracy.degenerate();
+    if (r.degenerate) count_axes(r.degeneracy, axes);
+    count_axes(r.map_degeneracy, map_axes);
     searched += r.search_candidates > 0;
     reinitialized += r.reinitialized;
     if (r.lost) lost.push_back(r.index);
     max_dt = std::max(max_dt, r.dt);
   }
-  return {{"scans", results.size()},       {"gaps", gaps},
-          {"missed_scans", missed},        {"max_interval_s", max_dt},
-          {"searched_steps", searched},    {"reinitialized_steps", reinitialized},
-          {"lost_steps", lost.size()},     {"lost_scans", lost},
-          {"degenerate_scans", degenerate}};
+  return {{"scans", results.size()},
+          {"gaps", gaps},
+          {"missed_scans", missed},
+          {"max_interval_s", max_dt},
+          {"searched_steps", searched},
+          {"reinitialized_steps", reinitialized},
+          {"lost_steps", lost.size()},
+          {"lost_scans", lost},
+          {"degenerate_scans", degenerate},
+          {"unconstrained_axes", axes},
+          {"map_degenerate_scans", map_degenerate},
+          {"map_unconstrained_axes", map_axes}};
 }
 
 }  // namespace dloam::run

@@ -41,7 +41,9 @@ struct LabelStats {
   [[nodiscard]] nlohmann::json json() const;
 };
 
-/// Gaps in the scan times, steps searched / re-initialised / lost, degenerate scans.
+/// Gaps in the scan times, steps searched / re-initialised / lost, degenerate scans (odometry:
+/// `degenerate_scans`, scan-to-map: `map_degenerate_scans`) with the axes of their unconstrained
+/// directions.
 nlohmann::json tracking_json(const std::vector<ScanResult>& results);
 
 }  // namespace dloam::run

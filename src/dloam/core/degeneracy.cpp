@@ -1,0 +1,79 @@
+#include "dloam/core/degeneracy.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <utility>
+#include <vector>
+
+namespace dloam {
+
+Vec6 to_scaled(const Vec6& twist, const DegeneracyConfig& config) {
+  Vec6 s = twist;
+  s.head<3>() *= config.rotation_radius;
+  return s;
+}
+
+Vec6 from_scaled(const Vec6& scaled, const DegeneracyConfig& config) {
+  Vec6 t = scaled;
+  t.head<3>() /= config.rotation_radius;
+  return t;
+}
+
+Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof,
+                              const DegeneracyConfig& config) {
+  Degeneracy out;
+  out.matches = matches;
+  // A feature adds at most 1 to a translation (its unit normal or line normal along it), so the
+  // share of the matches is defined for translations; for a rotation it would depend on the radius.
+  const double share = config.min_fraction * matches;
+  std::vector<int> free;
+  for (int i = 0; i < 6; ++i)
+    if (dof[static_cast<std::size_t>(i)]) free.push_back(i);
+  out.free = static_cast<int>(free.size());
+  if (free.empty()) return out;
+  // Twist = D * scaled with D = diag(1/r, 1/r, 1/r, 1, 1, 1): the scaled normal matrix is D H D.
+  auto scale = [&](int i) { return i < 3 ? 1.0 / config.rotation_radius : 1.0; };
+  const auto n = static_cast<Eigen::Index>(free.size());
+  Eigen::MatrixXd Hs(n, n);
+  for (Eigen::Index a = 0; a < n; ++a)
+    for (Eigen::Index b = 0; b < n; ++b) {
+      const int i = free[static_cast<std::size_t>(a)], j = free[static_cast<std::size_t>(b)];
+      Hs(a, b) = scale(i) * H(i, j) * scale(j);
+    }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs);
+  // Unconstrained directions first, each group in ascending order.
+  std::vector<std::pair<bool, Eigen::Index>> order;
+  for (Eigen::Index a = 0; a < n; ++a) {
+    Vec6 v = Vec6::Zero();
+    for (Eigen::Index b = 0; b < n; ++b) v(free[static_cast<std::size_t>(b)]) = es.eigenvectors()(b, a);
+    const bool translation = v.tail<3>().norm() > v.head<3>().norm();
+    const double threshold = translation ? std::max(config.min_features, share) : config.min_features;
+    order.emplace_back(!(es.eigenvalues()(a) < threshold), a);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto [constrained, a] = order[static_cast<std::size_t>(k)];
+    out.unconstrained += !constrained;
+    out.eigenvalues(k) = es.eigenvalues()(a);
+    for (Eigen::Index b = 0; b < n; ++b)
+      out.eigenvectors(free[static_cast<std::size_t>(b)], k) = es.eigenvectors()(b, a);
+  }
+  return out;
+}
+
+std::string direction_name(const Vec6& scaled) {
+  static constexpr std::array<const char*, 6> kNames = {"roll", "pitch", "yaw", "x", "y", "z"};
+  Eigen::Index i = 0;
+  scaled.cwiseAbs().maxCoeff(&i);
+  return kNames[static_cast<std::size_t>(i)];
+}
+
+std::string unconstrained_names(const Degeneracy& d) {
+  std::string out;
+  for (int a = 0; a < d.unconstrained; ++a) out += (a ? "+" : "") + direction_name(d.eigenvectors.col(a));
+  return out;
+}
+
+}  // namespace dloam

@@ -1,0 +1,75 @@
+// Degeneracy of a registration (Zhang, Kaess & Singh, "On degeneracy of optimization-based state
+// estimation problems", ICRA 2016): the eigen-decomposition of the normal matrix J^T W J of the
+// point-to-line / point-to-plane residuals in a tangent space where translation and rotation have
+// the same unit. A direction whose eigenvalue is small is not constrained by the geometry (the
+// axis of a tunnel with smooth walls, travel and heading over an empty field): the registration
+// keeps the motion prior there instead of its update (solution remapping, registration.hpp).
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "dloam/core/se3.hpp"
+
+namespace dloam {
+
+/// `degeneracy:` section. The unit of an eigenvalue is one feature of weight 1 whose residual
+/// changes one-to-one with the motion along the direction (a plane facing it, a line across it):
+/// the eigenvalue counts how many features' worth of residual respond to a motion in that
+/// direction. Rotations enter as the displacement they cause at `rotation_radius`. A direction is
+/// degenerate (the prior is kept along it) when its eigenvalue is below min_features or, for a
+/// direction mostly of translation, below min_fraction times the number of matched features (a
+/// feature adds at most 1 to a translation; to a rotation, an amount that depends on the radius).
+struct DegeneracyConfig {
+  /// Features' worth below which a direction is unconstrained however many features matched.
+  double min_features = 30.0;
+  /// Share of the matched features' worth below which a direction is unconstrained: the few
+  /// features that respond to it (lamps in a tunnel, a ring's noise taken for an edge) cannot
+  /// outweigh the bias of the many that do not. 0 and min_features 0: never degenerate.
+  double min_fraction = 0.08;
+  double rotation_radius = 20.0;  ///< m: a rotation of 1/rotation_radius rad counts as 1 m of motion
+};
+
+/// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order, target
+/// frame axes; rotations about the current sensor position).
+using DofMask = std::array<bool, 6>;
+inline constexpr DofMask kAllDof = {true, true, true, true, true, true};
+inline constexpr DofMask kPlaneStepDof = {true, true, false, false, false, true};  ///< roll, pitch, tz
+inline constexpr DofMask kEdgeStepDof = {false, false, true, true, true, false};   ///< yaw, tx, ty
+
+/// The eigen-decomposition of a normal matrix over its free degrees of freedom, in scaled twist
+/// coordinates [rotation * rotation_radius (m); translation (m)].
+struct Degeneracy {
+  int free = 0;  ///< free degrees of freedom analysed
+  /// Eigenvalues (features' worth; the first `free` are meaningful: the unconstrained ones first,
+  /// then the others, each in ascending order) and their unit eigenvectors (columns, scaled twist
+  /// coordinates, zero outside the free degrees of freedom).
+  Vec6 eigenvalues = Vec6::Zero();
+  Mat6 eigenvectors = Mat6::Zero();
+  int unconstrained = 0;  ///< directions below the threshold (the first ones)
+  int matches = 0;        ///< matched features behind the normal matrix
+  [[nodiscard]] bool degenerate() const { return unconstrained > 0; }
+  /// The smallest eigenvalue (0 when nothing was analysed).
+  [[nodiscard]] double weakest() const { return free > 0 ? eigenvalues.head(free).minCoeff() : 0.0; }
+  /// The unit eigenvector of the first unconstrained direction, else of the smallest eigenvalue.
+  [[nodiscard]] Vec6 weakest_direction() const {
+    Eigen::Index i = 0;
+    if (unconstrained == 0 && free > 0) eigenvalues.head(free).minCoeff(&i);
+    return eigenvectors.col(i);
+  }
+};
+
+/// `H`: J^T W J of `matches` matched features over all six degrees of freedom in twist coordinates
+/// [rad; m] (rotations about the sensor position). Only the degrees of freedom in `dof` are analysed.
+Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, const DegeneracyConfig& config);
+
+/// [rotation; translation] (rad, m) -> scaled twist coordinates, and back.
+Vec6 to_scaled(const Vec6& twist, const DegeneracyConfig& config);
+Vec6 from_scaled(const Vec6& scaled, const DegeneracyConfig& config);
+
+/// The axis a scaled direction mostly moves along: "roll", "pitch", "yaw", "x", "y" or "z".
+std::string direction_name(const Vec6& scaled);
+/// The axes of the unconstrained directions, weakest first, joined by '+' ("" when none).
+std::string unconstrained_names(const Degeneracy& d);
+
+}  // namespace dloam
