@@ -14,8 +14,14 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
     p.max_correspondence = config_.max_correspondence;
-    p.degeneracy = degeneracy_;
-    p.prior = prior.value_or(predicted);
+    if (prior) {  // directions the features do not constrain keep the prior (solution remapping)
+      p.degeneracy = degeneracy_;
+      p.prior = *prior;
+    } else {  // no prior to keep: every direction is estimated; the degeneracy is only reported
+      p.degeneracy.min_features = 0.0;
+      p.degeneracy.min_fraction = 0.0;
+      p.degeneracy.rotation_radius = degeneracy_.rotation_radius;
+    }
 
     auto two_step = [&](const FeatureSource& src, const Pose& initial) {
       if (!level) {

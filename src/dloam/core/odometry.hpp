@@ -53,15 +53,16 @@ class ScanToScanOdometry {
   /// `with_rejection`: run the RANSAC pseudo-static rejection when the config enables it.
   OdometryResult process(const FeatureSource& sharp, std::vector<Vec3> all_edges,
                          std::vector<Vec3> all_planes, const Pose& predicted, bool with_rejection = false) {
-    OdometryResult out = estimate(sharp, predicted, with_rejection, true, predicted);
+    OdometryResult out = estimate(sharp, predicted, with_rejection);
     set_previous(std::move(all_edges), std::move(all_planes));
     return out;
   }
   /// The motion of `sharp` against the previous scan's features (predicted motion when none yet).
   /// `level`: the sensor's z axis is (close to) vertical, so the two-step LM applies; otherwise all
   /// six degrees of freedom are estimated together. `prior`: the motion kept along directions the
-  /// features do not constrain (the constant-velocity prediction; none: `predicted`, the initial
-  /// guess).
+  /// features do not constrain (the constant-velocity prediction); none: every direction is
+  /// estimated from `predicted` on (a guess that may be far off must not be kept anywhere), and
+  /// the result's `degeneracy` only reports the unconstrained directions.
   [[nodiscard]] OdometryResult estimate(const FeatureSource& sharp, const Pose& predicted,
                                         bool with_rejection = false, bool level = true,
                                         const std::optional<Pose>& prior = std::nullopt) const;
