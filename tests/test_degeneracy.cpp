@@ -16,18 +16,14 @@
 #include "dloam/core/se3.hpp"
 #include "dloam/core/sensor.hpp"
 #include "dloam/pipeline/pipeline.hpp"
+#include "pose_test_util.hpp"
 #include "sim_test_util.hpp"
 
 using namespace dloam;
 
 namespace {
 
-Pose make_pose(double yaw, const Vec3& t) {
-  Pose T = Pose::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
+using test::make_pose;
 
 std::vector<Vec3> transformed(const Pose& T, const std::vector<Vec3>& pts) {
   std::vector<Vec3> out;

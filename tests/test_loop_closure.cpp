@@ -9,17 +9,13 @@
 #include "dloam/core/loop_closure.hpp"
 #include "dloam/core/mapping.hpp"
 #include "dloam/core/pose_graph.hpp"
+#include "pose_test_util.hpp"
 
 using namespace dloam;
 
 namespace {
 
-Pose make_pose(double yaw, const Vec3& t) {
-  Pose T = Pose::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
+using test::make_pose;
 
 /// Pose at arc length s on a square of side `side` driven counter-clockwise from the origin along +x.
 Pose square_pose(double s, double side) {

@@ -6,19 +6,13 @@
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/registration.hpp"
 #include "dloam/core/se3.hpp"
+#include "pose_test_util.hpp"
 
 using namespace dloam;
 
 namespace {
 
-Pose make_pose(double roll, double pitch, double yaw, const Vec3& t) {
-  Pose T = Pose::Identity();
-  T.linear() = (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
-                Eigen::AngleAxisd(roll, Vec3::UnitX()))
-                   .toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
+using test::make_pose;
 
 /// A "street corner": ground plane, two perpendicular walls, and vertical poles (edges).
 struct Scene {

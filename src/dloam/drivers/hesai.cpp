@@ -173,11 +173,7 @@ struct HesaiScanner::Impl {
     constexpr std::size_t kChunk = 8192;
     if (outline || bl.scan.xyz.size() >= bl.written + packet_room) return;
     const std::size_t size = bl.written + std::max(kChunk, packet_room);
-    bl.scan.xyz.resize(size);
-    bl.scan.intensity.resize(size);
-    bl.scan.ring.resize(size);
-    bl.scan.return_id.resize(size);
-    bl.scan.stamps.resize(size);
+    bl.scan.resize_points(size);
   }
 
   void reset_building(int b) {
@@ -194,11 +190,7 @@ struct HesaiScanner::Impl {
     Building& bl = building[static_cast<std::size_t>(b)];
     const std::size_t points = bl.written + bl.scan.outline_points;  // decoded or counted
     if (points > 0) {
-      bl.scan.xyz.resize(bl.written);
-      bl.scan.intensity.resize(bl.written);
-      bl.scan.ring.resize(bl.written);
-      bl.scan.return_id.resize(bl.written);
-      bl.scan.stamps.resize(bl.written);
+      bl.scan.resize_points(bl.written);
       bl.scan.complete = bl.complete;
       if (bl.complete) {
         largest_complete = std::max(largest_complete, points);

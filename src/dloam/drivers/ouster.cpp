@@ -261,13 +261,7 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
   const std::size_t capacity = static_cast<std::size_t>(frame.valid_columns) * static_cast<std::size_t>(h) *
                                (dual && mode == ReturnMode::kAll ? 2 : 1);
   // Sized once and cut back at the end: the per-point loop writes through plain pointers.
-  if constexpr (kPoints) {
-    s.xyz.resize(capacity);
-    s.intensity.resize(capacity);
-    s.ring.resize(capacity);
-    s.return_id.resize(capacity);
-    s.stamps.resize(capacity);
-  }
+  if constexpr (kPoints) s.resize_points(capacity);
   Vec3* out_xyz = s.xyz.data();
   float* out_intensity = s.intensity.data();
   std::uint16_t* out_ring = s.ring.data();
@@ -354,11 +348,7 @@ void OusterScanner::convert(OusterFrame& frame, std::vector<Scan>& done) {
     }
   }
   if constexpr (kPoints) {
-    s.xyz.resize(n);
-    s.intensity.resize(n);
-    s.ring.resize(n);
-    s.return_id.resize(n);
-    s.stamps.resize(n);
+    s.resize_points(n);
   } else {
     s.outline_points = n;
   }

@@ -71,6 +71,15 @@ struct Scan {
   std::size_t outline_points = 0;
 
   [[nodiscard]] std::size_t size() const { return xyz.size(); }
+  /// Every point array to `n` points (sized once before a decoder writes through them, cut back
+  /// after).
+  void resize_points(std::size_t n) {
+    xyz.resize(n);
+    intensity.resize(n);
+    ring.resize(n);
+    return_id.resize(n);
+    stamps.resize(n);
+  }
 };
 
 class Scanner {

@@ -713,11 +713,7 @@ class VelodyneScanner final : public Scanner {
 
   /// The scan being assembled, its arrays cut to the points written; a new one starts.
   Scan take_current() {
-    current_.xyz.resize(written_);
-    current_.intensity.resize(written_);
-    current_.ring.resize(written_);
-    current_.return_id.resize(written_);
-    current_.stamps.resize(written_);
+    current_.resize_points(written_);
     Scan out = std::move(current_);
     current_ = Scan{};
     written_ = 0;
@@ -731,11 +727,7 @@ class VelodyneScanner final : public Scanner {
     constexpr std::size_t kChunk = 8192;
     if (current_.xyz.size() >= written_ + kPacketReturns) return;
     const std::size_t size = written_ + std::max(kChunk, kPacketReturns);
-    current_.xyz.resize(size);
-    current_.intensity.resize(size);
-    current_.ring.resize(size);
-    current_.return_id.resize(size);
-    current_.stamps.resize(size);
+    current_.resize_points(size);
   }
   static std::uint16_t block_azimuth_of(const Packet& p) { return block_azimuth(p, 0); }
 
