@@ -64,7 +64,7 @@ TEST(Degeneracy, CorridorAxisKeepsThePriorAndTheOtherDirectionsAreSolved) {
   p.degeneracy.min_fraction = 0.0;
   p.prior = make_pose(0.0, {0.6, 0.0, 0.0});  // constant velocity: 0.2 m short along the axis
   const RegistrationResult r = register_features(src, target, Pose::Identity(), p);
-  ASSERT_TRUE(r.degenerate);
+  ASSERT_TRUE(r.degenerate());
   EXPECT_EQ(r.degeneracy.unconstrained, 1);
   EXPECT_EQ(unconstrained_names(r.degeneracy), "x");
   // Along the axis the estimate is the prior, not the initial guess and not a drift.
@@ -80,7 +80,7 @@ TEST(Degeneracy, CorridorAxisKeepsThePriorAndTheOtherDirectionsAreSolved) {
   closed_target.planes.build(closed);
   const FeatureSource closed_src{{}, transformed(truth.inverse(), closed), {}, {}};
   const RegistrationResult c = register_features(closed_src, closed_target, Pose::Identity(), p);
-  EXPECT_FALSE(c.degenerate) << unconstrained_names(c.degeneracy);
+  EXPECT_FALSE(c.degenerate()) << unconstrained_names(c.degeneracy);
   EXPECT_NEAR(c.T.translation().x(), 0.8, 0.01);
   EXPECT_NEAR(c.T.translation().y(), 0.1, 0.01);
 }

@@ -249,7 +249,7 @@ TEST(LoopClosure, MapperCorrectsTiltFarFromTheOrigin) {
   std::printf("far from the origin: tilt %.3f deg, %.3f m -> %.4f deg, %.4f m\n",
               rotation_angle(tilt) * 180 / M_PI, tilt.translation().norm(), rotation_angle(err) * 180 / M_PI,
               err.translation().norm());
-  EXPECT_FALSE(m.registration.degenerate);
+  EXPECT_FALSE(m.registration.degenerate());
   EXPECT_LT(rotation_angle(err), 0.05 * M_PI / 180);
   EXPECT_LT(err.translation().norm(), 0.02);
 }

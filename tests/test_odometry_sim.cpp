@@ -45,8 +45,8 @@ TEST(OdometrySim, RecoversTheKnownMotionBetweenTwoSimulatedScans) {
   }
   ASSERT_TRUE(result.initialized);
   std::printf("plane step: %d matches, degenerate %d; edge step: %d matches, degenerate %d, iterations %d\n",
-              result.plane_step.plane_matches, result.plane_step.degenerate, result.edge_step.edge_matches,
-              result.edge_step.degenerate, result.edge_step.iterations);
+              result.plane_step.plane_matches, result.plane_step.degenerate(), result.edge_step.edge_matches,
+              result.edge_step.degenerate(), result.edge_step.iterations);
   const Pose err = result.motion.inverse() * gt_motion;
   std::printf("true motion %.3f m, %.3f deg; error %.4f m, %.4f deg\n", gt_motion.translation().norm(),
               rotation_angle(gt_motion) * 180 / M_PI, err.translation().norm(),

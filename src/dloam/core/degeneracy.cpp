@@ -20,6 +20,13 @@ Vec6 from_scaled(const Vec6& scaled, const DegeneracyConfig& config) {
   return t;
 }
 
+Mat6 to_scaled_normal_matrix(const Mat6& H, const DegeneracyConfig& config) {
+  Mat6 S = H;
+  S.topRows<3>() /= config.rotation_radius;
+  S.leftCols<3>() /= config.rotation_radius;
+  return S;
+}
+
 Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof,
                               const DegeneracyConfig& config) {
   Degeneracy out;
@@ -32,15 +39,12 @@ Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof,
     if (dof[static_cast<std::size_t>(i)]) free.push_back(i);
   out.free = static_cast<int>(free.size());
   if (free.empty()) return out;
-  // Twist = D * scaled with D = diag(1/r, 1/r, 1/r, 1, 1, 1): the scaled normal matrix is D H D.
-  auto scale = [&](int i) { return i < 3 ? 1.0 / config.rotation_radius : 1.0; };
+  const Mat6 S = to_scaled_normal_matrix(H, config);
   const auto n = static_cast<Eigen::Index>(free.size());
   Eigen::MatrixXd Hs(n, n);
   for (Eigen::Index a = 0; a < n; ++a)
-    for (Eigen::Index b = 0; b < n; ++b) {
-      const int i = free[static_cast<std::size_t>(a)], j = free[static_cast<std::size_t>(b)];
-      Hs(a, b) = scale(i) * H(i, j) * scale(j);
-    }
+    for (Eigen::Index b = 0; b < n; ++b)
+      Hs(a, b) = S(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs);
   // Unconstrained directions first, each group in ascending order.
   std::vector<std::pair<bool, Eigen::Index>> order;

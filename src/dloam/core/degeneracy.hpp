@@ -66,6 +66,10 @@ Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, co
 /// [rotation; translation] (rad, m) -> scaled twist coordinates, and back.
 Vec6 to_scaled(const Vec6& twist, const DegeneracyConfig& config);
 Vec6 from_scaled(const Vec6& scaled, const DegeneracyConfig& config);
+/// A normal matrix J^T W J in twist coordinates [rad; m] -> in scaled twist coordinates: D H D with
+/// twist = D * scaled, D = diag(1/rotation_radius x 3, 1 x 3). (A gradient J^T W r goes the same
+/// way, D g: from_scaled(g).)
+Mat6 to_scaled_normal_matrix(const Mat6& H, const DegeneracyConfig& config);
 
 /// The axis a scaled direction mostly moves along: "roll", "pitch", "yaw", "x", "y" or "z".
 std::string direction_name(const Vec6& scaled);

@@ -74,7 +74,7 @@ std::optional<LoopConstraint> verify_loop(const std::vector<Keyframe>& keyframes
   }
   const int matches = r.edge_matches + r.plane_matches;
   const auto features = static_cast<double>(cur.edges.size() + cur.planes.size());
-  if (r.degenerate || matches < params.min_matches || matches < params.min_match_ratio * features ||
+  if (r.degenerate() || matches < params.min_matches || matches < params.min_match_ratio * features ||
       !(r.mean_residual < params.max_fitness))
     return std::nullopt;
 

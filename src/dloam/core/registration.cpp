@@ -190,7 +190,6 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     res.mean_residual = matches > 0 ? sum_r / matches : 0.0;
     res.normal_matrix = H;
     if (matches < 10) {  // too few correspondences to constrain the pose: the prior stands
-      res.degenerate = true;
       res.degeneracy = analyse_degeneracy(H, matches, params.dof, params.degeneracy);
       res.degeneracy.unconstrained = res.degeneracy.free;
       if (params.prior && nf > 0) res.T = *params.prior;
@@ -204,7 +203,6 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
       // fixed: re-deciding at every iteration let the estimate creep along a weak direction.
       analysed = true;
       res.degeneracy = analyse_degeneracy(H, matches, params.dof, dc);
-      res.degenerate = res.degeneracy.degenerate();
       const int u = res.degeneracy.unconstrained;
       constrained = res.degeneracy.eigenvectors.middleCols(u, nf - u);
       if (u > 0 && params.prior) {
@@ -221,15 +219,8 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     }
     if (constrained.cols() == 0) break;  // nothing the geometry constrains: the prior stands
     // Gauss-Newton over the constrained directions: H and g in scaled coordinates, projected.
-    Mat6 Hs = H;
-    Vec6 gs = g;
-    for (int i = 0; i < 3; ++i) {
-      Hs.row(i) /= dc.rotation_radius;
-      Hs.col(i) /= dc.rotation_radius;
-      gs(i) /= dc.rotation_radius;
-    }
-    const Eigen::MatrixXd Hq = constrained.transpose() * Hs * constrained;
-    const Eigen::VectorXd gq = constrained.transpose() * gs;
+    const Eigen::MatrixXd Hq = constrained.transpose() * to_scaled_normal_matrix(H, dc) * constrained;
+    const Eigen::VectorXd gq = constrained.transpose() * from_scaled(g, dc);
     const Vec6 delta = from_scaled(-(constrained * Hq.ldlt().solve(gq)), dc);
     res.T = normalized(step_about(delta, c) * res.T);
     if (delta.head<3>().norm() < params.convergence_rotation &&

@@ -63,7 +63,7 @@ struct RegistrationResult {
   double mean_residual = 0.0;  ///< m, over matched features at the last iteration
   /// Some free direction the geometry does not constrain (kept from the prior), or fewer than 10
   /// matches (the initial guess stands).
-  bool degenerate = false;
+  [[nodiscard]] bool degenerate() const { return degeneracy.degenerate(); }
   Degeneracy degeneracy;  ///< of the free directions, at the first iteration
   /// J^T W J over all six degrees of freedom at the last iteration (twist coordinates about the
   /// sensor position, rad and m): registrations of different features of one scan add up.
