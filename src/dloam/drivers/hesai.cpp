@@ -168,12 +168,9 @@ struct HesaiScanner::Impl {
     s.stamps.reserve(reserve_points);
   }
 
-  /// The arrays sized for packet_room more points than written, a chunk at a time.
+  /// The arrays at least packet_room points longer than written (Scan::make_room).
   void make_room(Building& bl) const {
-    constexpr std::size_t kChunk = 8192;
-    if (outline || bl.scan.xyz.size() >= bl.written + packet_room) return;
-    const std::size_t size = bl.written + std::max(kChunk, packet_room);
-    bl.scan.resize_points(size);
+    if (!outline) bl.scan.make_room(bl.written, packet_room);
   }
 
   void reset_building(int b) {

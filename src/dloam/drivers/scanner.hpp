@@ -5,6 +5,7 @@
 // points: no file access (calibration files are parsed by the vendor's own reader).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -79,6 +80,12 @@ struct Scan {
     ring.resize(n);
     return_id.resize(n);
     stamps.resize(n);
+  }
+  /// For a decoder that writes points in place, `written` of them so far: the arrays at least
+  /// `room` points longer than that, grown a chunk (8192 points, or `room`) at a time.
+  void make_room(std::size_t written, std::size_t room) {
+    constexpr std::size_t kChunk = 8192;
+    if (xyz.size() < written + room) resize_points(written + std::max(kChunk, room));
   }
 };
 

@@ -724,10 +724,7 @@ class VelodyneScanner final : public Scanner {
   /// ahead of the points written, sized up a chunk at a time within the reserved capacity.
   void make_room() {
     constexpr std::size_t kPacketReturns = kBlocks * 32;  // each return of a block at most once
-    constexpr std::size_t kChunk = 8192;
-    if (current_.xyz.size() >= written_ + kPacketReturns) return;
-    const std::size_t size = written_ + std::max(kChunk, kPacketReturns);
-    current_.resize_points(size);
+    current_.make_room(written_, kPacketReturns);
   }
   static std::uint16_t block_azimuth_of(const Packet& p) { return block_azimuth(p, 0); }
 
