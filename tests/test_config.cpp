@@ -22,6 +22,8 @@ using ::testing::Not;
 namespace {
 const std::string kConfigDir = std::string(DLOAM_SOURCE_DIR) + "/config/";
 
+// The braces below list fewer initializers than fields on purpose (clang warns of that).
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 /// Number of fields of an aggregate: the most arguments `T{...}` accepts (C++17 has no reflection).
 struct AnyField {
   template <class T>

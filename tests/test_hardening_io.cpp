@@ -258,7 +258,8 @@ TEST(HardeningBin, ForeignRecordLayoutsAreRecognisedAndGenuineScansPass) {
        {std::pair<std::string, std::string>{"f64.bin", f64}, {"five.bin", five}, {"pcl.bin", pcl}}) {
     ASSERT_EQ(bytes.size() % 16, 0u);
     write_text(dir.file(name), bytes);
-    const std::string msg = input_error_of([&] { (void)read_kitti_bin(dir.file(name)); });
+    const std::string path = dir.file(name);  // C++17 lambdas cannot capture structured bindings
+    const std::string msg = input_error_of([&] { (void)read_kitti_bin(path); });
     EXPECT_THAT(msg, HasSubstr(name));
     EXPECT_THAT(msg, HasSubstr("does not look like float32 x y z intensity records"));
   }

@@ -28,7 +28,8 @@ TEST(RosbagHardening, RepeatedOrReorderedStampsAreErrorsNamingTheMessage) {
     for (int k = 0; k < 3; ++k)
       bag.write("/points", ros::Time(kStamp0 + 0.1 * k), make_cloud(scan, kPlain, 14, 1, stamps[k]));
     bag.close();
-    const std::string msg = input_error_of([&] { (void)ros1::open_bag_sequence(dir.file(name), ""); });
+    const std::string path = dir.file(name);  // C++17 lambdas cannot capture structured bindings
+    const std::string msg = input_error_of([&] { (void)ros1::open_bag_sequence(path, ""); });
     EXPECT_THAT(msg, HasSubstr(name));
     EXPECT_THAT(msg, HasSubstr("message 2"));
     EXPECT_THAT(msg, HasSubstr("scan times must increase"));
