@@ -2,6 +2,8 @@
 # Builds the libFuzzer harnesses of every reader (fuzz/, clang with ASan + UBSan) and runs each one
 # for SECONDS (default 40), DLOAM_FUZZ_JOBS (default 2) at a time, with a timeout per input and a
 # memory limit: the default run of the 20 harnesses takes about 7 minutes on 2 cores.
+# DLOAM_FUZZ_BUILD_DIR (default build-fuzz) names the build tree; a tree already configured with
+# -DDLOAM_BUILD_FUZZERS=ON (clang) is used as it is.
 # Seed corpora are made here from ../shared/data (small cuts of its scans, captures, bags and
 # calibration files; nothing is copied into the repository) and the repository's config/*.yaml; the
 # corpora grow in build-fuzz/fuzz-corpus/ from run to run. Exits non-zero when any harness finds a
@@ -20,15 +22,20 @@ SENSORS=$DATA/sensors
 JOBS=${DLOAM_FUZZ_JOBS:-2}
 
 mkdir -p "$BUILD"
-echo "== building the fuzz harnesses ($BUILD, clang, ASan + UBSan + libFuzzer)"
-launcher=()
-command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
-  -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}" -DDLOAM_BUILD_FUZZERS=ON -DDLOAM_BUILD_TESTS=OFF \
-  -DDLOAM_BUILD_BENCH=OFF -DDLOAM_WITH_TORCH=OFF >"$BUILD/configure.log" 2>&1 || {
-  cat "$BUILD/configure.log"
-  exit 1
-}
+if grep -qs '^DLOAM_BUILD_FUZZERS:BOOL=ON' "$BUILD/CMakeCache.txt"; then
+  # A tree configured with the harnesses (e.g. CI's sanitizer build, which also holds the tests).
+  echo "== building the fuzz harnesses in $BUILD (configured there)"
+else
+  echo "== building the fuzz harnesses ($BUILD, clang, ASan + UBSan + libFuzzer)"
+  launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
+    -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}" -DDLOAM_BUILD_FUZZERS=ON -DDLOAM_BUILD_TESTS=OFF \
+    -DDLOAM_BUILD_BENCH=OFF -DDLOAM_WITH_TORCH=OFF >"$BUILD/configure.log" 2>&1 || {
+    cat "$BUILD/configure.log"
+    exit 1
+  }
+fi
 targets=(fuzzers)
 grep -q '^DLOAM_WITH_ROS:BOOL=ON' "$BUILD/CMakeCache.txt" && targets+=(make_bag_seed)
 cmake --build "$BUILD" -j"$JOBS" --target "${targets[@]}"
