@@ -19,34 +19,44 @@ bool has_cnn() {
 #endif
 }
 
+namespace {
+
+/// Resolves the detector when no model can be loaded (`why` says why), through choose_detector as
+/// every other path: auto is the geometric detector, cnn an error. `tell` adds a note for auto.
+std::shared_ptr<MovingSegmenter> without_model(DetectionConfig& detection, const SensorConfig& sensor,
+                                               const std::string& why, bool tell, std::string* note) {
+  CnnModelInfo none;
+  none.missing_reason = why;
+  try {
+    const DetectorChoice choice = choose_detector(detection.detector, none, sensor);
+    detection.detector = choice.detector;
+    if (note)
+      *note = tell && choice.note.empty() ? why + ": detector auto uses the geometric detector" : choice.note;
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& config, std::string* note) {
   DetectionConfig& detection = config.detection;
+  if (detection.detector != Detector::kAuto && detection.detector != Detector::kCnn) return nullptr;
 #ifdef DLOAM_WITH_TORCH
   std::string dir;
   if (detection.model_path.empty() && detection.detector == Detector::kCnn) dir = io::data_dir() + "/models";
   if (detection.model_path.empty() && detection.detector == Detector::kAuto) {
     dir = io::model_dir();
-    if (dir.empty()) {  // no shipped model to be found: what a build without LibTorch does
-      detection.detector = Detector::kGeometric;
-      if (note)
-        *note =
-            "no dloam data folder with the shipped model was found (set DLOAM_DATA_DIR): "
-            "detector auto uses the geometric detector";
-      return nullptr;
-    }
+    if (dir.empty())
+      return without_model(detection, config.sensor,
+                           "no dloam data folder with the shipped model was found (set DLOAM_DATA_DIR)", true,
+                           note);
   }
   return cnn::prepare_detector(detection, dir, config.sensor, note);
 #else
-  CnnModelInfo none;
-  none.missing_reason = "this dloam was built without LibTorch (DLOAM_WITH_TORCH=OFF)";
-  try {
-    const DetectorChoice choice = choose_detector(detection.detector, none, config.sensor);
-    detection.detector = choice.detector;
-    if (note) *note = choice.note;
-  } catch (const std::invalid_argument& e) {
-    throw InputError(e.what());
-  }
-  return nullptr;
+  return without_model(detection, config.sensor,
+                       "this dloam was built without LibTorch (DLOAM_WITH_TORCH=OFF)", false, note);
 #endif
 }
 
