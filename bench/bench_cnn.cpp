@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "bench_main.hpp"
 #include "dloam/cnn/cnn_segmenter.hpp"
 #include "dloam/cnn/mos_net.hpp"
 #include "dloam/core/cnn_decision.hpp"
@@ -91,4 +92,4 @@ void BM_CnnDecision(benchmark::State& st) {
 BENCHMARK(BM_RangeImageBag)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CnnForward)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CnnDecision)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

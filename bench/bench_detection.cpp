@@ -3,6 +3,7 @@
 // (eq. 13) and the cluster detector, and the whole DynamicStage as the pipeline calls it.
 #include <benchmark/benchmark.h>
 
+#include "bench_main.hpp"
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/preprocess.hpp"
 #include "dloam/core/speed_matrix.hpp"
@@ -134,4 +135,4 @@ BENCHMARK(BM_DeskewScan)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpeedMatrix)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DynamicStage)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DynamicStageFirstPair)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

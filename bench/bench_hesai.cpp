@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "dloam/drivers/hesai.hpp"
 #include "dloam/drivers/hesai_packet.hpp"
 #include "dloam/io/bag.hpp"
@@ -182,4 +183,4 @@ BENCHMARK_CAPTURE(BM_Hesai, XT32M_all, "xt32m", hesai::Model::kPandarXT32M, Retu
 
 }  // namespace
 
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

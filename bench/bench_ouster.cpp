@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "dloam/drivers/ouster.hpp"
 #include "dloam/io/pcap.hpp"
 
@@ -88,4 +89,4 @@ void BM_OusterOS0_128_LowDataRate(benchmark::State& state) {
 BENCHMARK(BM_OusterOS2_128_Single)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OusterOS0_32_DualAll)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OusterOS0_128_LowDataRate)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "bench_main.hpp"
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/features.hpp"
 #include "dloam/core/mapping.hpp"
@@ -114,4 +115,4 @@ BENCHMARK(BM_Features)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Odometry)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Mapping)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PipelinePerScan)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

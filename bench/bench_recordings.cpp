@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "bench_main.hpp"
 #include "dloam/io/bag.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/io/packet_sequence.hpp"
@@ -98,4 +99,4 @@ DLOAM_RECORDING(vlp16_pcap, "velodyne/veloview/vlp-16-test-90deg-1-50-frames.pca
 
 }  // namespace
 
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

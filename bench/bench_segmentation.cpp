@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "dloam/core/features.hpp"
 #include "dloam/core/ground.hpp"
 #include "dloam/core/preprocess.hpp"
@@ -90,4 +91,4 @@ BENCHMARK(BM_Ground)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Segment)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Features)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SegmentAndFeatures)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

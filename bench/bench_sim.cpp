@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "bench_main.hpp"
 #include "dloam/sim/scenario.hpp"
 #include "dloam/sim/simulator.hpp"
 
@@ -50,4 +51,4 @@ BENCHMARK_CAPTURE(BM_Sweep, urban_vlp16, ScenarioKind::Urban, "VLP-16")->Unit(be
 BENCHMARK_CAPTURE(BM_MakeWorld, urban_1000_frames, ScenarioKind::Urban)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MakeWorld, loop_1000_frames, ScenarioKind::Loop)->Unit(benchmark::kMillisecond);
 
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "dloam/drivers/velodyne.hpp"
 #include "dloam/io/bag.hpp"
 #include "dloam/io/packet_messages.hpp"
@@ -100,4 +101,4 @@ BENCHMARK(BM_VelodyneVlp32)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+DLOAM_BENCHMARK_MAIN()

@@ -8,11 +8,13 @@
 #include <exception>
 
 #include "commands.hpp"
+#include "dloam/run/process_memory.hpp"
 #ifdef DLOAM_WITH_ROS
 #include "dloam/ros/bag_sequence.hpp"
 #endif
 
 int main(int argc, char** argv) {
+  dloam::run::reuse_freed_memory();
   CLI::App app{"dloam: real-time LiDAR SLAM that keeps moving objects out of odometry and map"};
   app.require_subcommand(1);
   app.footer(

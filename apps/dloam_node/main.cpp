@@ -10,9 +10,11 @@
 #include "dloam/io/config_yaml.hpp"
 #include "dloam/io/data_dir.hpp"
 #include "dloam/run/detector_setup.hpp"
+#include "dloam/run/process_memory.hpp"
 #include "node.hpp"
 
 int main(int argc, char** argv) {
+  dloam::run::reuse_freed_memory();
   ros::init(argc, argv, "dloam");
   ros::NodeHandle nh, private_nh("~");
   const auto params = dloam::node::NodeParams::from(private_nh);

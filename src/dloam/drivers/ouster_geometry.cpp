@@ -15,9 +15,10 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
   const double dist = bz != 0.0 ? std::hypot(n, bz) : n;
   const Eigen::Matrix3d R = md.lidar_to_sensor.topLeftCorner<3, 3>();
   const Eigen::Vector3d t = md.lidar_to_sensor.topRightCorner<3, 1>();
-  // The trigonometry of each row and each column once, and per column that of each distinct beam
-  // azimuth (rows share them: 16 of 128 on an OS-1-128): the same arguments as per pixel, so the
-  // same values.
+  // The trigonometry of each row, each column and each distinct beam azimuth once (rows share
+  // them: 16 of 128 on an OS-1-128, 111 on an OS-0-128); a pixel's direction from the sum formulas
+  // cos(enc + az) = cos enc cos az - sin enc sin az, sin(enc + az) = sin enc cos az + cos enc sin az
+  // (within 1e-15 of the sine and cosine of the sum, without a sine per pixel).
   const auto h = static_cast<std::size_t>(height_);
   std::vector<double> cos_alt(h), sin_alt(h), beam_az;
   std::vector<std::size_t> az_of_row(h);
@@ -30,7 +31,12 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
     cos_alt[row] = std::cos(alt);
     sin_alt[row] = std::sin(alt);
   }
-  std::vector<double> cos_sum(beam_az.size()), sin_sum(beam_az.size());  // of enc + az
+  std::vector<double> cos_az(beam_az.size()), sin_az(beam_az.size()), cos_sum(beam_az.size()),
+      sin_sum(beam_az.size());  // of az and of enc + az
+  for (std::size_t k = 0; k < beam_az.size(); ++k) {
+    cos_az[k] = std::cos(beam_az[k]);
+    sin_az[k] = std::sin(beam_az[k]);
+  }
   // Written once, so not value-initialised first (std::vector would zero 6 MB for a 1024 x 128
   // sensor).
   const std::size_t entries = 6 * static_cast<std::size_t>(width_) * h;
@@ -41,8 +47,8 @@ OusterXyzLut::OusterXyzLut(const OusterMetadata& md)
     const double enc = 2.0 * M_PI - m * (2.0 * M_PI / width_);
     const double cos_enc = std::cos(enc), sin_enc = std::sin(enc);
     for (std::size_t k = 0; k < beam_az.size(); ++k) {
-      cos_sum[k] = std::cos(enc + beam_az[k]);
-      sin_sum[k] = std::sin(enc + beam_az[k]);
+      cos_sum[k] = cos_enc * cos_az[k] - sin_enc * sin_az[k];
+      sin_sum[k] = sin_enc * cos_az[k] + cos_enc * sin_az[k];
     }
     for (std::size_t row = 0; row < h; ++row, out += 6) {
       const std::size_t k = az_of_row[row];
