@@ -3,9 +3,9 @@
 // (probability below cnn_threshold). Ground pixels the network calls moving (a car's lower rim
 // merged into the ground) are rejected as in the geometric detector: no features, not mapped.
 // Labels then come from point_labels() (dynamic_detector.hpp) exactly as for the geometric
-// detector; every input point, including those that lost their pixel, follows its cluster.
-// (Measured on kitti-raw-0005 with an early model: labelling non-cluster pixels by their own
-// probability added 10.5k false and 3.3k true moving points, so they are not labelled moving.)
+// detector; every input point, including those that lost their pixel, follows its cluster. Pixels
+// of no cluster are not labelled moving by their own probability (docs/results.md, detector
+// parameters).
 #pragma once
 
 #include <vector>

@@ -43,32 +43,27 @@ struct DetectionConfig {
   double v_ground = 1.0;  ///< m/s: ground re-verification threshold
   double alpha = 0.5;     ///< a cluster with less than alpha static points is dynamic
   /// m/s: a pixel whose point lies farther than v_max * dt behind the previous scan's surface does
-  /// not vote (disocclusion, dynamic_detector.hpp): 30 m/s is faster than urban traffic.
-  /// Measured (point IoU, off -> 3.0): kitti-raw-0005 82.2 -> 83.0 %, urban seeds 2 / 1 (traffic 3)
-  /// / 3 / 7: 84.5 -> 88.7, 60.1 -> 60.3, 50.2 -> 55.2, 45.9 -> 46.9 %; 1.0 to 5.0 changed seeds 1
-  /// and 3 by under 2 points.
+  /// not vote (disocclusion, dynamic_detector.hpp): 30 m/s is faster than urban traffic. Measured
+  /// values: docs/results.md (detector parameters).
   double v_max = 30.0;
-  /// Clusters with fewer pixels of known speed are never dynamic (noise). Measured (100-scan runs,
-  /// point / object IoU): 20 -> 78.0 / 60.7 % on kitti-raw-0005 and 53.9 / 14.4 % on simulated urban
-  /// seed 1 traffic 3; 40 -> 78.9 / 76.9 % and 54.8 / 12.9 %.
+  /// Clusters with fewer pixels of known speed are never dynamic (noise). Measured values:
+  /// docs/results.md (detector parameters).
   int N_min_dynamic = 40;
   bool pseudo_static = true;  ///< track previous label of objects (stop-and-go)
   /// A tracked dynamic object (dynamic in the last two scans) stays dynamic below this static
   /// fraction. Eq. 13 sees motion only along the rays: a vehicle moving along its own length (passing
   /// beside the sensor) shows a speed only on the pixels its leading end sweeps, about displacement /
   /// visible length of them (0.86 m per scan on a 9 m truck: ~10 %), so its static fraction reaches
-  /// ~0.9 while it still moves; a stopped object shows ~0 moving pixels. Measured (100-scan runs,
-  /// point IoU without v_max; kitti-raw-0005 / urban seed 2 / urban seed 1 traffic 3):
-  /// 0.75 -> 82.1 / 56.0 / 59.0 %, 0.90 -> 82.1 / 64.2 / 59.3 %, 0.92 -> 82.2 / 84.5 / 60.1 % (seed 2:
-  /// an oncoming truck passing 3 m beside the sensor is kept); with v_max, 0.90 -> 68.0 % on seed 2.
-  /// A pure side view (no end of the object visible) still loses the object.
+  /// ~0.9 while it still moves; a stopped object shows ~0 moving pixels (measured values:
+  /// docs/results.md, detector parameters). A pure side view (no end of the object visible) still
+  /// loses the object.
   double alpha_tracked = 0.92;
   // CNN (III.D.3.b)
   int m = 6;                   ///< number of recent speed/residual images in the range-image bag
   std::string model_path;      ///< written by `dloam train`; empty: models/mos_m<m>.pt shipped with dloam
   double cnn_threshold = 0.5;  ///< moving probability threshold
-  /// LibTorch threads. 2 on an idle 2-core machine: forward 20 ms instead of 41 ms (bench_cnn). Its
-  /// OpenMP pool spins: when other programs load the cores, 1 is much faster (5-20x measured).
+  /// LibTorch threads of the CNN's forward pass. Its OpenMP pool spins: when other programs load the
+  /// cores, 1 is faster than 2 (measured: docs/results.md, detector parameters).
   int threads = 2;
 };
 

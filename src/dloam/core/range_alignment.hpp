@@ -3,8 +3,7 @@
 //
 // Why: the PCA objects of a sparse sensor (16-32 beams) leave the coarse motion 0.5-1 deg and
 // 0.1 m off. Eq. 13's v_static is 0.1 m per scan, so such an error makes the facades along a street
-// "move". Measured on a simulated VLP-16 urban drive: up to 6,000 static points of a scan, on the
-// buildings, labelled moving.
+// "move" (measured on simulated VLP-16 drives: docs/results.md, 16 beams).
 //
 // How: each sampled current point is moved into the previous frame with the current estimate
 // (P^{k->k-1}) and paired with the previous scan's point in the pixel it lands in. This is eqs.

@@ -119,8 +119,9 @@ VelodynePacketHeader velodyne_packet_header(const Packet& packet) {
 namespace {
 
 /// Median relative range difference |r[c] - r[c+16]| / max(r[c], r[c+16]) over the blocks of the
-/// packets (both returns non-zero): below 1 % on a VLP-16, whose channels c and c + 16 are the same
-/// laser 55 us apart; 20-45 % on the 32-laser models. -1 when fewer than 50 pairs tell.
+/// packets (both returns non-zero): small on a VLP-16, whose channels c and c + 16 are the same
+/// laser 55 us apart, large on the 32-laser models (values on the recordings: docs/velodyne.md).
+/// -1 when fewer than 50 pairs tell.
 double channel_structure(const std::vector<const Packet*>& packets) {
   std::vector<double> rel;
   for (const Packet* p : packets)
