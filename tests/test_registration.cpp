@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "dloam/core/degeneracy.hpp"
 #include "dloam/core/deskew.hpp"
 #include "dloam/core/registration.hpp"
 #include "dloam/core/se3.hpp"
@@ -121,6 +122,42 @@ TEST(Registration, DegenerateCorridorDoesNotDiverge) {
   EXPECT_TRUE(r.degenerate());
   EXPECT_LT(std::abs(r.T.translation().x()), 0.5 + 1e-6);  // no runaway along the corridor
   EXPECT_NEAR(r.T.translation().y(), 0.1, 0.02);           // constrained directions still solved
+}
+
+TEST(Degeneracy, AnUnconstrainedDirectionKeepsThePriorOnlyWhereThePriorCanBeTrusted) {
+  // A normal matrix (twist coordinates, rad and m) with roll and x far below min_features (30
+  // features' worth at rotation_radius 20 m) and the other directions well constrained.
+  Mat6 H = Mat6::Identity() * 1e5;
+  H(0, 0) = 400.0 * 2.0;  // roll: 2 features' worth at 20 m
+  H(3, 3) = 5.0;          // x: 5 features' worth
+  const DegeneracyConfig config;
+  const double deg = M_PI / 180.0;
+
+  // No prior error given: both weak directions keep the prior.
+  const Degeneracy exact = analyse_degeneracy(H, 1000, kAllDof, config);
+  EXPECT_EQ(exact.unconstrained, 2);
+  EXPECT_EQ(exact.held, 2);
+  EXPECT_EQ(unconstrained_names(exact), "roll+x");
+
+  // A car's gate over 0.1 s (1 deg: 0.35 m at 20 m; 0.3 m): both held.
+  const Degeneracy car = analyse_degeneracy(H, 1000, kAllDof, config, {1.0 * deg, 0.3});
+  EXPECT_EQ(car.unconstrained, 2);
+  EXPECT_EQ(car.held, 2);
+  EXPECT_TRUE(car.keeps_prior());
+
+  // A handheld scanner's gate (10.5 deg: 3.7 m at 20 m; 0.15 m): x is held, roll is estimated.
+  const Degeneracy handheld = analyse_degeneracy(H, 1000, kAllDof, config, {10.5 * deg, 0.15});
+  EXPECT_TRUE(handheld.degenerate());
+  EXPECT_EQ(handheld.unconstrained, 2);
+  ASSERT_EQ(handheld.held, 1);
+  EXPECT_EQ(direction_name(handheld.eigenvectors.col(0)), "x");  // the held ones come first
+  EXPECT_EQ(direction_name(handheld.eigenvectors.col(1)), "roll");
+
+  // Neither can be trusted: the degeneracy is reported, nothing keeps the prior.
+  const Degeneracy loose = analyse_degeneracy(H, 1000, kAllDof, config, {10.5 * deg, 1.5});
+  EXPECT_EQ(loose.unconstrained, 2);
+  EXPECT_EQ(loose.held, 0);
+  EXPECT_FALSE(loose.keeps_prior());
 }
 
 TEST(Deskew, UndoesConstantMotionDuringTheSweep) {

@@ -27,8 +27,8 @@ Mat6 to_scaled_normal_matrix(const Mat6& H, const DegeneracyConfig& config) {
   return S;
 }
 
-Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof,
-                              const DegeneracyConfig& config) {
+Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, const DegeneracyConfig& config,
+                              const PriorError& prior) {
   Degeneracy out;
   out.matches = matches;
   // A feature adds at most 1 to a translation (its unit normal or line normal along it), so the
@@ -46,20 +46,26 @@ Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof,
     for (Eigen::Index b = 0; b < n; ++b)
       Hs(a, b) = S(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hs);
-  // Unconstrained directions first, each group in ascending order.
-  std::vector<std::pair<bool, Eigen::Index>> order;
+  // Groups: 0 unconstrained and held by the prior, 1 unconstrained, 2 constrained; each group in
+  // ascending order.
+  std::vector<std::pair<int, Eigen::Index>> order;
   for (Eigen::Index a = 0; a < n; ++a) {
     Vec6 v = Vec6::Zero();
     for (Eigen::Index b = 0; b < n; ++b) v(free[static_cast<std::size_t>(b)]) = es.eigenvectors()(b, a);
     const bool translation = v.tail<3>().norm() > v.head<3>().norm();
     const double threshold = translation ? std::max(config.min_features, share) : config.min_features;
-    order.emplace_back(!(es.eigenvalues()(a) < threshold), a);
+    // The prior's possible error along v (scaled coordinates: rotations at rotation_radius).
+    const double prior_error =
+        v.head<3>().norm() * prior.rotation * config.rotation_radius + v.tail<3>().norm() * prior.translation;
+    const bool constrained = !(es.eigenvalues()(a) < threshold);
+    order.emplace_back(constrained ? 2 : prior_error <= config.max_prior_error ? 0 : 1, a);
   }
   std::stable_sort(order.begin(), order.end(),
                    [](const auto& x, const auto& y) { return x.first < y.first; });
   for (Eigen::Index k = 0; k < n; ++k) {
-    const auto [constrained, a] = order[static_cast<std::size_t>(k)];
-    out.unconstrained += !constrained;
+    const auto [group, a] = order[static_cast<std::size_t>(k)];
+    out.unconstrained += group < 2;
+    out.held += group == 0;
     out.eigenvalues(k) = es.eigenvalues()(a);
     for (Eigen::Index b = 0; b < n; ++b)
       out.eigenvectors(free[static_cast<std::size_t>(b)], k) = es.eigenvectors()(b, a);

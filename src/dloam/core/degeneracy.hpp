@@ -28,6 +28,19 @@ struct DegeneracyConfig {
   /// outweigh the bias of the many that do not. 0 and min_features 0: never degenerate.
   double min_fraction = 0.08;
   double rotation_radius = 20.0;  ///< m: a rotation of 1/rotation_radius rad counts as 1 m of motion
+  /// m: an unconstrained direction keeps the prior only where the prior itself can be off by less
+  /// than this (PriorError along the direction, rotations at rotation_radius); along the others the
+  /// data's estimate stands, weak as it is. Over 0.1 s a car's prior can be off by 0.3 m and 1 deg
+  /// (0.35 m at 20 m): it is kept; a handheld scanner's by 10.5 deg (3.7 m): a turn that starts or
+  /// stops within the interval is not replaced by the turn rate of the interval before.
+  double max_prior_error = 1.0;
+};
+
+/// How far a motion prior can be from the truth (the motion gate: what the platform's accelerations
+/// allow over the interval). Zero: exact (every unconstrained direction keeps it).
+struct PriorError {
+  double rotation = 0.0;     ///< rad
+  double translation = 0.0;  ///< m
 };
 
 /// Degrees of freedom of the left perturbation [roll, pitch, yaw, tx, ty, tz] (twist order, target
@@ -47,8 +60,13 @@ struct Degeneracy {
   Vec6 eigenvalues = Vec6::Zero();
   Mat6 eigenvectors = Mat6::Zero();
   int unconstrained = 0;  ///< directions below the threshold (the first ones)
-  int matches = 0;        ///< matched features behind the normal matrix
+  /// Of those, the ones that keep the prior (the first ones): where it can be off by at most
+  /// max_prior_error.
+  int held = 0;
+  int matches = 0;  ///< matched features behind the normal matrix
   [[nodiscard]] bool degenerate() const { return unconstrained > 0; }
+  /// Some direction keeps the motion prior instead of the data's estimate.
+  [[nodiscard]] bool keeps_prior() const { return held > 0; }
   /// The smallest eigenvalue (0 when nothing was analysed).
   [[nodiscard]] double weakest() const { return free > 0 ? eigenvalues.head(free).minCoeff() : 0.0; }
   /// The unit eigenvector of the first unconstrained direction, else of the smallest eigenvalue.
@@ -61,7 +79,9 @@ struct Degeneracy {
 
 /// `H`: J^T W J of `matches` matched features over all six degrees of freedom in twist coordinates
 /// [rad; m] (rotations about the sensor position). Only the degrees of freedom in `dof` are analysed.
-Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, const DegeneracyConfig& config);
+/// `prior`: how far the prior that unconstrained directions would keep can be off (Degeneracy::held).
+Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, const DegeneracyConfig& config,
+                              const PriorError& prior = {});
 
 /// [rotation; translation] (rad, m) -> scaled twist coordinates, and back.
 Vec6 to_scaled(const Vec6& twist, const DegeneracyConfig& config);

@@ -5,8 +5,8 @@
 namespace dloam {
 
 OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Pose& predicted,
-                                            bool with_rejection, bool level,
-                                            const std::optional<Pose>& prior) const {
+                                            bool with_rejection, bool level, const std::optional<Pose>& prior,
+                                            const PriorError& prior_error) const {
   OdometryResult out;
   out.motion = predicted;
   if (previous_) {
@@ -17,6 +17,7 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
     if (prior) {  // directions the features do not constrain keep the prior (solution remapping)
       p.degeneracy = degeneracy_;
       p.prior = *prior;
+      p.prior_error = prior_error;
     } else {  // no prior to keep: every direction is estimated; the degeneracy is only reported
       p.degeneracy.min_features = 0.0;
       p.degeneracy.min_fraction = 0.0;
@@ -56,7 +57,8 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
                          : out.edge_step.normal_matrix;
     int matches = out.edge_step.edge_matches + out.edge_step.plane_matches;
     if (level) matches += out.plane_step.edge_matches + out.plane_step.plane_matches;
-    out.degeneracy = analyse_degeneracy(H, matches, kAllDof, degeneracy_);
+    out.degeneracy = analyse_degeneracy(H, matches, kAllDof, degeneracy_, prior_error);
+    if (!prior) out.degeneracy.held = 0;  // reported only: nothing kept a prior
   }
   return out;
 }

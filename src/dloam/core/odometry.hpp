@@ -36,7 +36,8 @@ struct OdometryResult {
   RegistrationResult plane_step;
   RegistrationResult edge_step;
   /// The scan's features together (both steps' normal matrices added, all six degrees of
-  /// freedom, at the estimate): degenerate when some direction of the motion is unconstrained.
+  /// freedom, at the estimate): degenerate when some direction of the motion is unconstrained;
+  /// keeps_prior() when some of them kept the prior.
   Degeneracy degeneracy;
   bool initialized = false;  ///< false for the first scan (no previous features)
   int rejection_rounds = 0;  ///< pseudo-static rejection: estimates made (0 = not used)
@@ -62,10 +63,13 @@ class ScanToScanOdometry {
   /// six degrees of freedom are estimated together. `prior`: the motion kept along directions the
   /// features do not constrain (the constant-velocity prediction); none: every direction is
   /// estimated from `predicted` on (a guess that may be far off must not be kept anywhere), and
-  /// the result's `degeneracy` only reports the unconstrained directions.
+  /// the result's `degeneracy` only reports the unconstrained directions. `prior_error`: how far the
+  /// prior can be off (the motion gate); directions where that exceeds degeneracy.max_prior_error
+  /// are estimated from the features however weak (Degeneracy::held).
   [[nodiscard]] OdometryResult estimate(const FeatureSource& sharp, const Pose& predicted,
                                         bool with_rejection = false, bool level = true,
-                                        const std::optional<Pose>& prior = std::nullopt) const;
+                                        const std::optional<Pose>& prior = std::nullopt,
+                                        const PriorError& prior_error = {}) const;
   /// F_e / F_p of the current scan become the next scan's target.
   void set_previous(std::vector<Vec3> all_edges, std::vector<Vec3> all_planes);
   /// The previous scan's F_e / F_p, or null before the first scan.

@@ -191,7 +191,7 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
     res.normal_matrix = H;
     if (matches < 10) {  // too few correspondences to constrain the pose: the prior stands
       res.degeneracy = analyse_degeneracy(H, matches, params.dof, params.degeneracy);
-      res.degeneracy.unconstrained = res.degeneracy.free;
+      res.degeneracy.unconstrained = res.degeneracy.held = res.degeneracy.free;
       if (params.prior && nf > 0) res.T = *params.prior;
       break;
     }
@@ -202,12 +202,14 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
       // The unconstrained directions at the initial guess (Zhang, Kaess & Singh 2016). They stay
       // fixed: re-deciding at every iteration let the estimate creep along a weak direction.
       analysed = true;
-      res.degeneracy = analyse_degeneracy(H, matches, params.dof, dc);
-      const int u = res.degeneracy.unconstrained;
+      res.degeneracy = analyse_degeneracy(H, matches, params.dof, dc, params.prior_error);
+      // The directions held by the prior, then the ones the iterations move along: the constrained
+      // ones and those unconstrained ones where the prior can be further off than the data.
+      const int u = res.degeneracy.held;
       constrained = res.degeneracy.eigenvectors.middleCols(u, nf - u);
       if (u > 0 && params.prior) {
-        // Solution remapping: along the unconstrained directions the estimate takes the prior's
-        // value, then the iterations move it along the constrained ones only.
+        // Solution remapping: along the held directions the estimate takes the prior's value,
+        // then the iterations move it along the others only.
         const Mat6Dyn unconstrained = res.degeneracy.eigenvectors.leftCols(u);
         const Vec6 to_prior = to_scaled(twist_about(*params.prior * T.inverse(), c), dc);
         const Vec6 shift = unconstrained * (unconstrained.transpose() * to_prior);

@@ -47,6 +47,9 @@ struct RegistrationParams {
   /// The motion prior: along unconstrained directions the estimate takes its value (solution
   /// remapping). None: the initial guess's.
   std::optional<Pose> prior;
+  /// How far the prior can be off: only directions where that is within degeneracy.max_prior_error
+  /// keep it (Degeneracy::held); zero: all unconstrained ones do.
+  PriorError prior_error;
   double convergence_rotation = 1e-5;     ///< rad
   double convergence_translation = 1e-4;  ///< m
   /// Nearest neighbours are searched again when the pose moved more than this since the last search.

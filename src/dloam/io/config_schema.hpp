@@ -191,6 +191,10 @@ void visit(DegeneracyConfig& c, V& v) {
     "... or by less than this share of the matched features' worth (both 0: never degenerate)", within(0, 1));
   v("rotation_radius", c.rotation_radius,
     "m: rotations count as the displacement they cause at this distance", above(0));
+  v("max_prior_error", c.max_prior_error,
+    "m: ... only where the prior can be off by less than this (the motion gate, rotations at "
+    "rotation_radius)",
+    at_least(0));
 }
 
 template <class V>

@@ -251,12 +251,15 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // What unconstrained directions keep: the constant-velocity prediction, or with no velocity
     // yet, the initial guess (the first step's search).
     const Pose motion_prior = motion_.known() ? predicted : initial;
+    // How far it can be off: the motion gate (a handheld scanner's turn rate changes too fast
+    // for a turn to be held at the last interval's rate, degeneracy.max_prior_error).
+    const PriorError prior_error{prior.gate.max_rotation, prior.gate.max_translation};
     // T_coarse passed the motion gate (and is aligned on the range images when refined): an
     // odometry that moves farther than the gate from it has slid along repeated structure (a
     // highway's guard-rail posts, one spacing along) and is not believed. Unless some direction is
     // unconstrained: the odometry kept the constant-velocity prediction there, T_coarse did not.
     const auto believe = [&](auto odometry) {
-      if (dynamic_ && dyn.coarse_valid && !odometry.degeneracy.degenerate() &&
+      if (dynamic_ && dyn.coarse_valid && !odometry.degeneracy.keeps_prior() &&
           !prior.gate.admits(initial.inverse() * odometry.motion))
         odometry.motion = initial;
       return odometry;
@@ -266,12 +269,12 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     // de-skewed scan to a skewed one is biased by the sweep's motion (a first step up to 6 cm short
     // at 25 km/h, which the map built on the first scan then keeps).
     if (first_pair && dynamic_ && dyn.coarse_valid) deskew_first_scan(interval.sweep_motion(initial));
-    auto odo = believe(odometry_.estimate(sharp, initial, reject, level, motion_prior));
+    auto odo = believe(odometry_.estimate(sharp, initial, reject, level, motion_prior, prior_error));
     if (first_pair) {
       // The first motion is known; de-skew the first scan with it (constant velocity) and
       // estimate again against the corrected target.
       deskew_first_scan(interval.sweep_motion(odo.motion));
-      odo = believe(odometry_.estimate(sharp, odo.motion, reject, level, motion_prior));
+      odo = believe(odometry_.estimate(sharp, odo.motion, reject, level, motion_prior, prior_error));
       first_->raw.clear();  // done
     }
     if (!times.empty() && count_ > 0) {
@@ -285,7 +288,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
         const SweepMotion sweep = interval.sweep_motion(odo.motion);
         sharp.edges = deskew(raw, times, features.f_e_index, sweep);
         sharp.planes = deskew(raw, times, features.f_p_index, sweep);
-        odo = believe(odometry_.estimate(sharp, odo.motion, reject, level, motion_prior));
+        odo = believe(odometry_.estimate(sharp, odo.motion, reject, level, motion_prior, prior_error));
       }
       const SweepMotion sweep = interval.sweep_motion(odo.motion);
       features.F_e = deskew(raw, times, features.F_e_index, sweep);
@@ -328,8 +331,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   // the velocity is the last step of the scan-to-map registration (scans k-2 -> k-1), which the
   // map constrains where the previous scan did not.
   const std::size_t m = mapped_.size();
-  if (count_ > 0 && out.degenerate && m >= 2 && mapped_[m - 1].first + 1 == count_ &&
-      mapped_[m - 2].first + 2 == count_ && previous_dt_ > 0.0) {
+  if (count_ > 0 && out.degenerate && out.degeneracy.keeps_prior() && m >= 2 &&
+      mapped_[m - 1].first + 1 == count_ && mapped_[m - 2].first + 2 == count_ && previous_dt_ > 0.0) {
     motion_.update(mapped_[m - 2].second.inverse() * mapped_[m - 1].second, previous_dt_);
   } else if (count_ > 0) {
     motion_.update(odometry_poses_[count_ - 1].inverse() * odometry_pose_, interval.dt);
