@@ -134,6 +134,22 @@ TEST(Config, NonDefaultValuesSurviveTheRoundTrip) {
   }
 }
 
+TEST(Config, LongAndControlCharacterStringsSurviveTheRoundTrip) {
+  auto config = default_config();
+  const std::string long_name(300, 'H');                        // longer than a line, no commas
+  const std::string long_list = "a, " + std::string(200, 'b');  // commas inside a string
+  const std::string controls = std::string("tab\there\nnew line\r\x01\x7f") + '\0' + "end";
+  for (const std::string& s : {long_name, long_list, controls, std::string("caf\xc3\xa9")}) {
+    config.input.topic = s;
+    config.input.calibration = s;
+    const std::string yaml = dump_config(config);
+    const auto back = config_from_yaml_string(yaml, "dump");
+    EXPECT_EQ(back.input.topic, s);
+    EXPECT_EQ(back.input.calibration, s);
+    EXPECT_EQ(dump_config(back), yaml);
+  }
+}
+
 TEST(Config, PresetThenExplicitKeysOverride) {
   const auto c = config_from_yaml_string(
       "sensor: {preset: vlp-16, max_range: 80}\nmapping:\n  every_n_scans: 5\nthreads: 1\n");

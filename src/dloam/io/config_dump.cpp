@@ -3,8 +3,10 @@
 #include <cctype>
 #include <charconv>
 #include <sstream>
+#include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 #include "dloam/core/types.hpp"
 #include "dloam/io/config_schema.hpp"
@@ -39,12 +41,24 @@ bool is_plain(const std::string& s) {
   return true;
 }
 
+/// A string as YAML reads it back unchanged: plain when it can be, else double-quoted with `"`, `\\`
+/// and control characters escaped (bytes from 0x80 up are written as they are).
 std::string text(const std::string& s) {
   if (is_plain(s)) return s;
   std::string quoted = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') quoted += '\\';
-    quoted += c;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      quoted += '\\';
+      quoted += c;
+    } else if (u < 0x20 || u == 0x7f) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      quoted += "\\x";
+      quoted += kHex[u >> 4];
+      quoted += kHex[u & 0xf];
+    } else {
+      quoted += c;
+    }
   }
   return quoted + '"';
 }
@@ -70,28 +84,31 @@ struct Dumper {
   std::string only_section;  ///< empty: every group
   bool found = false;
 
-  void line(const std::string& body, const char* doc) {
+  /// One `key: value  # doc` line. A line too long for the comment beside it gets the comment
+  /// above; a list (`wrap`) is then also wrapped after its commas, anything else stays one line.
+  void line(const std::string& body, const char* doc, bool wrap = false) {
     std::string l = indent + body;
-    if (l.size() + 2 >= kCommentColumn + 40) {  // long list: comment above, list wrapped at commas
-      out << indent << "# " << doc << '\n';
-      std::size_t start = 0;
-      while (l.size() - start > kMaxWidth) {
-        const std::size_t cut = l.rfind(", ", start + kMaxWidth - 1);
-        out << l.substr(start, cut + 1 - start) << '\n';
-        start = cut + 2;
-        l.insert(start, indent + "    ");
-      }
-      out << l.substr(start) << '\n';
+    if (l.size() + 2 < kCommentColumn + 40) {
+      l += std::string(l.size() < kCommentColumn ? kCommentColumn - l.size() : 1, ' ');
+      out << l << "# " << doc << '\n';
       return;
     }
-    l += std::string(l.size() < kCommentColumn ? kCommentColumn - l.size() : 1, ' ');
-    out << l << "# " << doc << '\n';
+    out << indent << "# " << doc << '\n';
+    std::size_t start = 0;
+    while (wrap && l.size() - start > kMaxWidth) {
+      const std::size_t cut = l.rfind(", ", start + kMaxWidth - 1);
+      if (cut == std::string::npos || cut <= start) break;  // one item longer than a line
+      out << l.substr(start, cut + 1 - start) << '\n';
+      start = cut + 2;
+      l.insert(start, indent + "    ");
+    }
+    out << l.substr(start) << '\n';
   }
   template <class T, class Constraint>
   void operator()(const char* key, T& field, const char* doc, const Constraint&) {
     if (!only_section.empty() && indent.empty()) return;
     if (indent.empty() && !out.str().empty()) out << '\n';
-    line(std::string(key) + ": " + value(field), doc);
+    line(std::string(key) + ": " + value(field), doc, std::is_same_v<T, std::vector<double>>);
   }
   template <class S>
   void group(const char* key, S& s, const char* doc) {
