@@ -10,7 +10,7 @@ BUILD_DIR=${DLOAM_BUILD_DIR:-build}
 
 PACKAGES=(cmake ninja-build g++ pkg-config
   libeigen3-dev libtbb-dev libnanoflann-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
-  libtinyxml2-dev libspdlog-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libceres-dev gnuplot-nox libtorch-dev
+  libtinyxml2-dev libspdlog-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libceres-dev robin-map-dev gnuplot-nox libtorch-dev
   libpcap-dev libsqlite3-dev liblz4-dev libzstd-dev zlib1g-dev liblzma-dev nettle-dev liboctomap-dev
   pybind11-dev python3-dev python3-numpy python3-pytest chromium libpng-dev
   librosbag-storage-dev libsensor-msgs-dev libroscpp-dev libnav-msgs-dev libtf2-ros-dev

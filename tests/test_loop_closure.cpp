@@ -194,6 +194,7 @@ TEST(LoopClosure, MapperClosesTheLoopAndCorrectsItsTrajectory) {
       if (m.loop && first_loop == 0) first_loop = i;
       reported.push_back(m.pose);
     }
+    mapper.finish();
     // Scan 10 i is keyframe i; scans 10 i + 1..9 (never mapped) are reported at keyframe i's pose.
     std::vector<Pose> scan_poses;
     for (std::size_t s = 0; s <= 840; ++s) scan_poses.push_back(reported[s / 10]);
@@ -252,4 +253,65 @@ TEST(LoopClosure, MapperCorrectsTiltFarFromTheOrigin) {
   EXPECT_FALSE(m.registration.degenerate());
   EXPECT_LT(rotation_angle(err), 0.05 * M_PI / 180);
   EXPECT_LT(err.translation().norm(), 0.02);
+}
+
+TEST(LoopClosure, ALoopRunsBesideTheScansAndIsTakenAtAFixedScan) {
+  const Town town = make_town(11);
+  MappingConfig config;
+  config.keyframe_distance = 1.5;  // every scan below is a keyframe
+  config.loop_min_time_s = 3.0;    // scans 0.1 s apart
+  struct Run {
+    std::vector<Pose> reported;
+    std::vector<std::size_t> loops_at;  // scans that took a loop
+    std::vector<Pose> keyframes, corrected;
+  };
+  const auto run = [&](bool loop_closure, double latency_s) {
+    config.loop_closure = loop_closure;
+    config.loop_latency_s = latency_s;
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    Mapper mapper(config, 10.0);
+    Run r;
+    for (std::size_t i = 0; i <= 84; ++i) {
+      const Keyframe view = observe(town, 0, drive_truth(i), Pose::Identity());
+      const Pose predicted = drive_truth(i) * make_pose(0.2 * noise(rng), Vec3(noise(rng), noise(rng), 0));
+      const MappingResult m = mapper.process(i, {view.edges, view.planes, {}, {}}, predicted);
+      EXPECT_TRUE(m.keyframe) << i;
+      if (m.loop) r.loops_at.push_back(i);
+      r.reported.push_back(m.pose);
+    }
+    mapper.finish();
+    for (const Keyframe& kf : mapper.keyframes()) r.keyframes.push_back(kf.pose);
+    r.corrected = mapper.corrected_trajectory(r.reported);
+    return r;
+  };
+  const Run at_once = run(true, 0.0), beside = run(true, 0.5), again = run(true, 0.5), off = run(false, 0.5);
+  ASSERT_FALSE(at_once.loops_at.empty());
+  ASSERT_FALSE(beside.loops_at.empty());
+  EXPECT_TRUE(off.loops_at.empty());
+  std::printf("loops taken at once at scans %zu.., beside the scans at %zu.. (%zu and %zu loops)\n",
+              at_once.loops_at.front(), beside.loops_at.front(), at_once.loops_at.size(),
+              beside.loops_at.size());
+  // The first loop is found on the same keyframe and taken 0.5 s = 5 scans later; one job at a
+  // time, so the next is found no earlier than that.
+  EXPECT_EQ(beside.loops_at.front(), at_once.loops_at.front() + 5);
+  for (std::size_t j = 1; j < beside.loops_at.size(); ++j)
+    EXPECT_GE(beside.loops_at[j], beside.loops_at[j - 1] + 5);
+  // Until a loop is taken nothing of it shows: the poses are those of a run without loop closure.
+  for (std::size_t i = 0; i < beside.loops_at.front(); ++i)
+    ASSERT_TRUE(beside.reported[i].matrix() == off.reported[i].matrix()) << i;
+  // The scan that takes it (and every later one) is reported in the corrected map.
+  double worst = 0.0;
+  for (std::size_t i = 0; i < beside.keyframes.size(); ++i) {
+    worst = std::max(worst, position_error(beside.keyframes[i], drive_truth(i)));
+    // Every scan is a keyframe: its corrected pose is the keyframe's current one.
+    EXPECT_TRUE(beside.corrected[i].isApprox(beside.keyframes[i], 1e-9)) << i;
+  }
+  EXPECT_LT(worst, 0.3);
+  // Thread timing does not show: a second run gives the same poses, bit for bit.
+  ASSERT_EQ(again.loops_at, beside.loops_at);
+  for (std::size_t i = 0; i < beside.reported.size(); ++i)
+    ASSERT_TRUE(again.reported[i].matrix() == beside.reported[i].matrix()) << i;
+  for (std::size_t i = 0; i < beside.keyframes.size(); ++i)
+    ASSERT_TRUE(again.keyframes[i].matrix() == beside.keyframes[i].matrix()) << i;
 }

@@ -3,8 +3,16 @@
 // (each new keyframe is checked against older ones; an accepted loop optimises the keyframe pose
 // graph and moves the keyframes and their global-map points), and the downsampled global map of
 // static points (global_map.hpp).
+//
+// Loop closure runs beside the scans: a keyframe with a loop candidate starts a job (verification,
+// pose-graph optimisation, the global map's occupancy at the corrected poses) on its own thread, and
+// the first scan at least loop_latency_s later takes its result, waiting for it if need be. Which
+// scan takes it depends on scan indices only, so the poses do not depend on thread timing. One loop
+// job at a time: keyframes made while one runs search no loop.
 #pragma once
 
+#include <future>
+#include <memory>
 #include <optional>
 
 #include "dloam/core/global_map.hpp"
@@ -31,6 +39,9 @@ struct MappingConfig {
   double loop_search_radius = 7.0;
   double loop_min_time_s = 30.0;
   double loop_max_fitness = 0.3;
+  /// Loop closure runs beside the scans; its result is taken by the first scan this much later (0:
+  /// at once, on the keyframe's own scan).
+  double loop_latency_s = 0.5;
 };
 
 /// The loop parameters of a mapping configuration at a scan rate.
@@ -78,24 +89,55 @@ class Mapper {
   /// Loops accepted so far, in order.
   [[nodiscard]] const std::vector<LoopConstraint>& loops() const { return loops_; }
 
+  /// Takes the result of a loop job still running (waits for it). Call at the end of a drive, before
+  /// keyframes(), loops(), corrected_trajectory() or global_map() are read for good.
+  void finish();
+
   /// Rewrites a trajectory after loop closures. `scan_poses[i]` is the pose reported for scan i (the
   /// `scan` argument of process(), e.g. Pipeline's ScanResult::pose); each scan moves rigidly with the
-  /// latest keyframe at or before it, from that keyframe's pose when it was reported to its current
-  /// one. Scans before the first keyframe are unchanged. Identity when no loop closed.
+  /// latest keyframe at or before it, from that keyframe's pose when the scan was reported to its
+  /// current one. Scans before the first keyframe are unchanged. Identity when no loop closed.
   [[nodiscard]] std::vector<Pose> corrected_trajectory(const std::vector<Pose>& scan_poses) const;
 
  private:
-  /// Graph edge to the newest keyframe, loop search, optimisation; updates `out` on a loop.
-  void close_loop(MappingResult& out);
+  /// What a loop job returns: the loop if verified, then the optimised poses of keyframes 0..k and
+  /// the global map's occupancy at them.
+  struct LoopOutcome {
+    std::optional<LoopConstraint> loop;
+    std::vector<Pose> poses;
+    GlobalMap::Rebuilt occupancy;
+  };
+  struct PendingLoop {
+    std::size_t due_scan = 0;                        ///< taken by the first scan at or after this
+    std::size_t keyframe = 0;                        ///< k, the keyframe that started it
+    Pose pose_at_start = Pose::Identity();           ///< keyframe k's pose when it started
+    std::unique_ptr<const GlobalMap::Snapshot> map;  ///< read by the job; outlives it (declared first)
+    std::future<LoopOutcome> outcome;
+  };
+  /// From `scan` on, scans were reported with keyframe `keyframe` at `reported`.
+  struct Anchor {
+    std::size_t scan = 0;
+    std::size_t keyframe = 0;
+    Pose reported = Pose::Identity();
+  };
+
+  /// Graph edge to the newest keyframe, then a loop job when a candidate is near and none runs.
+  void start_loop(std::size_t scan);
+  /// Takes the pending loop job's result when it is due at `scan` (or `force`): moves the keyframes
+  /// and the map, sets out.loop, and keeps the frame change for the next prediction.
+  void take_loop(std::size_t scan, bool force, MappingResult* out);
 
   MappingConfig config_;
   DegeneracyConfig degeneracy_;
   LocalMap local_;
   LoopParams loop_params_;
   std::vector<PoseGraphEdge> edges_;  // odometry edges between consecutive keyframes, loop edges
-  std::vector<Pose> reported_;        // per keyframe: the pose returned by process()
+  std::vector<Anchor> anchors_;       // in scan order
   std::vector<LoopConstraint> loops_;
   GlobalMap global_;
+  std::size_t last_scan_ = 0;
+  Pose shift_ = Pose::Identity();       // a loop taken since the last prediction moved the world this way
+  std::optional<PendingLoop> pending_;  // last: a job still running is waited for before the rest goes
 };
 
 }  // namespace dloam

@@ -214,6 +214,9 @@ void visit(MappingConfig& c, V& v) {
   v("loop_search_radius", c.loop_search_radius, "loop candidates within this distance (m)", above(0));
   v("loop_min_time_s", c.loop_min_time_s, "... and at least this much older (s)", at_least(0));
   v("loop_max_fitness", c.loop_max_fitness, "accept a loop when ICP fitness is below this", above(0));
+  v("loop_latency_s", c.loop_latency_s,
+    "s: loop closure runs beside the scans; the first scan this much later takes its result (0: at once)",
+    at_least(0));
 }
 
 template <class V>

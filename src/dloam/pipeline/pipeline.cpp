@@ -452,6 +452,7 @@ void Pipeline::finish() {
     first_.reset();
   }
   integrate_job(nullptr);
+  mapper_.finish();  // a loop closure still running
 }
 
 std::vector<Vec3> Pipeline::global_map() {

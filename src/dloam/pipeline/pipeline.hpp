@@ -4,7 +4,8 @@
 // Mapping runs in parallel (LOAM / LeGO-LOAM transform integration): the scan-to-map job of scan k
 // runs on a worker thread while the next scans' odometry goes on, and its correction is
 // integrated at the fixed scan k + mapping.latency_scans, so the poses do not depend on thread
-// timing. The first scan is de-skewed retroactively once the first motion is known (scan 1).
+// timing. Loop closure runs on a thread of its own in the same way (Mapper, mapping.loop_latency_s).
+// The first scan is de-skewed retroactively once the first motion is known (scan 1).
 #pragma once
 
 #include <future>
