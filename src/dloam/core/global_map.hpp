@@ -43,7 +43,7 @@ class GlobalMap {
   /// may come in several calls).
   /// Throws InputError on a point more than 2e9 voxels (400,000 km at 0.2 m) from the origin.
   void add(std::size_t keyframe, const std::vector<Vec3>& points, const Pose& pose);
-  /// The keyframes moved (loop closure): the occupancy is rebuilt at their new poses, at once.
+  /// The keyframes moved (loop closure): rebuild() and adopt() at once, on this thread.
   void move(const std::vector<Pose>& keyframe_poses);
   /// The stored points now, for rebuild() on another thread.
   [[nodiscard]] Snapshot snapshot() const;

@@ -37,16 +37,18 @@ std::optional<std::size_t> find_loop_candidate(const std::vector<Keyframe>& keyf
   return best;
 }
 
+std::pair<std::size_t, std::size_t> loop_submap(std::size_t candidate, std::size_t keyframes,
+                                                const LoopParams& params) {
+  const auto reach = static_cast<std::size_t>(std::max(0, params.submap_neighbours));
+  return {candidate >= reach ? candidate - reach : 0, std::min(keyframes - 1, candidate + reach)};
+}
+
 std::optional<LoopConstraint> verify_loop(const std::vector<Keyframe>& keyframes, std::size_t current,
                                           std::size_t candidate, const LoopParams& params) {
   if (current >= keyframes.size() || candidate >= current) return std::nullopt;
   const Keyframe& cur = keyframes[current];
   // World-frame submap: the candidate and its neighbours, none of them recent relative to `current`.
-  const std::size_t n = keyframes.size();
-  const std::size_t lo = candidate >= static_cast<std::size_t>(params.submap_neighbours)
-                             ? candidate - static_cast<std::size_t>(params.submap_neighbours)
-                             : 0;
-  const std::size_t hi = std::min(n - 1, candidate + static_cast<std::size_t>(params.submap_neighbours));
+  const auto [lo, hi] = loop_submap(candidate, keyframes.size(), params);
   std::vector<Vec3> edges, planes;
   for (std::size_t i = lo; i <= hi; ++i) {
     const Keyframe& kf = keyframes[i];

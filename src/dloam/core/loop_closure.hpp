@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "dloam/core/local_map.hpp"
@@ -38,6 +39,10 @@ struct LoopConstraint {
 /// Nearest keyframe before `current` within the radius and at least min_time_s older, if any.
 std::optional<std::size_t> find_loop_candidate(const std::vector<Keyframe>& keyframes, std::size_t current,
                                                const LoopParams& params);
+
+/// The first and last keyframe of the submap around `candidate` among `keyframes` (> candidate).
+std::pair<std::size_t, std::size_t> loop_submap(std::size_t candidate, std::size_t keyframes,
+                                                const LoopParams& params);
 
 /// Registers keyframe `current` against the submap around `candidate`; the constraint if accepted.
 std::optional<LoopConstraint> verify_loop(const std::vector<Keyframe>& keyframes, std::size_t current,

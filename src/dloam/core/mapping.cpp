@@ -1,6 +1,5 @@
 #include "dloam/core/mapping.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -88,11 +87,11 @@ void Mapper::start_loop(std::size_t scan) {
   // The job's own copy of what verify_loop reads: every keyframe's scan and pose, the features of
   // the candidate's submap and of keyframe k (the keyframes go on growing beside it).
   std::vector<Keyframe> view(kfs.size());
-  const auto reach = static_cast<std::size_t>(std::max(0, loop_params_.submap_neighbours));
+  const auto [lo, hi] = loop_submap(*candidate, kfs.size(), loop_params_);
   for (std::size_t i = 0; i < kfs.size(); ++i) {
     view[i].scan = kfs[i].scan;
     view[i].pose = kfs[i].pose;
-    if (i == k || (i + reach >= *candidate && i <= *candidate + reach)) {
+    if (i == k || (i >= lo && i <= hi)) {
       view[i].edges = kfs[i].edges;
       view[i].planes = kfs[i].planes;
     }
@@ -124,17 +123,12 @@ void Mapper::start_loop(std::size_t scan) {
 
 void Mapper::take_loop(std::size_t scan, bool force, MappingResult* out) {
   if (!pending_ || (!force && scan < pending_->due_scan)) return;
-  LoopOutcome o;
-  const std::size_t k = pending_->keyframe;
-  const Pose pose_at_start = pending_->pose_at_start;
-  try {
-    o = pending_->outcome.get();  // rethrows the job's exception
-  } catch (...) {
-    pending_.reset();
-    throw;
-  }
+  PendingLoop taken = std::move(*pending_);  // no longer pending, also when the job threw
   pending_.reset();
+  LoopOutcome o = taken.outcome.get();  // rethrows the job's exception
   if (!o.loop) return;
+  const std::size_t k = taken.keyframe;
+  const Pose& pose_at_start = taken.pose_at_start;
   // Keyframes 0..k as optimised; the ones made since move rigidly with keyframe k.
   const std::vector<Keyframe>& kfs = local_.keyframes();
   std::vector<Pose> poses = std::move(o.poses);
