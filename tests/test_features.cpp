@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <random>
 #include <set>
 #include <tuple>
 
@@ -233,6 +234,29 @@ TEST(VoxelGrid, OnePointPerVoxelNearestItsCentre) {
   EXPECT_THROW(voxel_downsample(bad, 0.1), InputError);
   bad[1].x() = 1e12;
   EXPECT_THROW(voxel_downsample(bad, 0.1), InputError);
+}
+
+TEST(VoxelGrid, PointsAddedSetBySetEqualOneDownsamplingOfTheirUnion) {
+  // Three overlapping random clouds: one voxel of 0.3 m holds points of several clouds.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  std::vector<std::vector<Vec3>> sets(3);
+  for (auto& set : sets)
+    for (int i = 0; i < 2000; ++i) set.emplace_back(u(rng), u(rng), 0.2 * u(rng));
+  VoxelPoints incremental(0.3);
+  std::vector<Vec3> all;
+  for (const auto& set : sets) {
+    incremental.add(set);
+    all.insert(all.end(), set.begin(), set.end());
+  }
+  EXPECT_EQ(incremental.points(), voxel_downsample_points(all, 0.3));
+  incremental.clear();
+  EXPECT_TRUE(incremental.points().empty());
+  incremental.add(sets[1]);
+  EXPECT_EQ(incremental.points(), voxel_downsample_points(sets[1], 0.3));
+  std::vector<Vec3> bad = sets[0];
+  bad[5].z() = std::nan("");
+  EXPECT_THROW(incremental.add(bad), InputError);
 }
 
 TEST(VoxelGrid, LargeCloudKeepsOnePointPerOccupiedVoxel) {
