@@ -265,9 +265,10 @@ TEST(LoopClosure, ALoopRunsBesideTheScansAndIsTakenAtAFixedScan) {
     std::vector<std::size_t> loops_at;  // scans that took a loop
     std::vector<Pose> keyframes, corrected;
   };
-  const auto run = [&](bool loop_closure, double latency_s) {
+  const auto run = [&](bool loop_closure, double latency_s, double interval_s = 0.0) {
     config.loop_closure = loop_closure;
     config.loop_latency_s = latency_s;
+    config.loop_min_interval_s = interval_s;
     std::mt19937 rng(5);
     std::normal_distribution<double> noise(0.0, 0.05);
     Mapper mapper(config, 10.0);
@@ -314,4 +315,13 @@ TEST(LoopClosure, ALoopRunsBesideTheScansAndIsTakenAtAFixedScan) {
     ASSERT_TRUE(again.reported[i].matrix() == beside.reported[i].matrix()) << i;
   for (std::size_t i = 0; i < beside.keyframes.size(); ++i)
     ASSERT_TRUE(again.keyframes[i].matrix() == beside.keyframes[i].matrix()) << i;
+
+  // loop_min_interval_s: after a loop is taken, none is searched for that long (0.3 s = 3 scans).
+  const Run spaced = run(true, 0.0, 0.3);
+  ASSERT_GE(at_once.loops_at.size(), 4u);  // at once, the revisit closes a loop at every keyframe
+  ASSERT_GE(spaced.loops_at.size(), 2u);
+  EXPECT_LT(spaced.loops_at.size(), at_once.loops_at.size());
+  EXPECT_EQ(spaced.loops_at.front(), at_once.loops_at.front());
+  for (std::size_t j = 1; j < spaced.loops_at.size(); ++j)
+    EXPECT_GE(spaced.loops_at[j], spaced.loops_at[j - 1] + 3);
 }

@@ -80,7 +80,7 @@ void Mapper::start_loop(std::size_t scan) {
   if (k > 0)
     edges_.push_back({k - 1, k, normalized(kfs[k - 1].pose.inverse() * kfs[k].pose),
                       information_from_sigmas(kSigmaRotation, kSigmaTranslation), false});
-  if (!config_.loop_closure || pending_) return;
+  if (!config_.loop_closure || pending_ || scan < no_loop_before_) return;
   const auto candidate = find_loop_candidate(kfs, k, loop_params_);
   if (!candidate) return;
 
@@ -140,6 +140,8 @@ void Mapper::take_loop(std::size_t scan, bool force, MappingResult* out) {
   loops_.push_back(*o.loop);
   anchors_.push_back({scan, kfs.size() - 1, poses.back()});
   shift_ = normalized(shift * shift_);
+  no_loop_before_ =
+      scan + static_cast<std::size_t>(std::ceil(config_.loop_min_interval_s * loop_params_.scan_rate_hz));
   if (out) out->loop = o.loop;
 }
 

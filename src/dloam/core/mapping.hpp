@@ -8,7 +8,8 @@
 // pose-graph optimisation, the global map's occupancy at the corrected poses) on its own thread, and
 // the first scan at least loop_latency_s later takes its result, waiting for it if need be. Which
 // scan takes it depends on scan indices only, so the poses do not depend on thread timing. One loop
-// job at a time: keyframes made while one runs search no loop.
+// job at a time: keyframes made while one runs, or within loop_min_interval_s after a loop was
+// taken, search no loop.
 #pragma once
 
 #include <future>
@@ -42,6 +43,9 @@ struct MappingConfig {
   /// Loop closure runs beside the scans; its result is taken by the first scan this much later (0:
   /// at once, on the keyframe's own scan).
   double loop_latency_s = 0.5;
+  /// After a loop is taken, keyframes search no loop for this long (a street revisited would
+  /// otherwise close a loop at nearly every keyframe; each one re-optimises the whole graph).
+  double loop_min_interval_s = 5.0;
 };
 
 /// The loop parameters of a mapping configuration at a scan rate.
@@ -136,6 +140,7 @@ class Mapper {
   std::vector<LoopConstraint> loops_;
   GlobalMap global_;
   std::size_t last_scan_ = 0;
+  std::size_t no_loop_before_ = 0;      // scan: keyframes before it search no loop (loop_min_interval_s)
   Pose shift_ = Pose::Identity();       // a loop taken since the last prediction moved the world this way
   std::optional<PendingLoop> pending_;  // last: a job still running is waited for before the rest goes
 };

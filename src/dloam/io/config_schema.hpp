@@ -217,6 +217,8 @@ void visit(MappingConfig& c, V& v) {
   v("loop_latency_s", c.loop_latency_s,
     "s: loop closure runs beside the scans; the first scan this much later takes its result (0: at once)",
     at_least(0));
+  v("loop_min_interval_s", c.loop_min_interval_s, "s after a loop is taken during which no loop is searched",
+    at_least(0));
 }
 
 template <class V>
