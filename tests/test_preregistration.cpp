@@ -2,6 +2,7 @@
 // the trimmed ICP recovering a known motion between object sets with 30 % outliers.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <random>
 
 #include "dloam/core/preregistration.hpp"
@@ -205,6 +206,33 @@ TEST(Preregistration, ForwardSearchTakesTheBestScoreAndTheSmallestTie) {
   // A flat score (nothing matches): the prior itself.
   const Pose flat = search_forward_translation(initial, 3.0, 0.2, [](const Pose&) { return 0.0; });
   EXPECT_TRUE(flat.isApprox(initial));
+}
+
+TEST(Preregistration, ASearchOverALongIntervalScoresABoundedNumberOfCandidates) {
+  // Scans dropped for 4 s before the second one: at 40 m/s and 60 deg/s the ranges are 164 m and
+  // 180 deg, 200 k candidates at the first pair's coarse steps (0.4 m, 2 deg).
+  const Pose initial = Pose::Identity();
+  const double dx = 37.3, yaw = 1.1;  // the motion to find
+  std::atomic<std::size_t> calls{0};
+  const auto score_for = [&](double tolerance) {
+    return [&, tolerance](const Pose& T) {
+      ++calls;
+      const double a = std::atan2(T.linear()(1, 0), T.linear()(0, 0));
+      // Scores are shares (>= 0), highest at the motion; the tolerance plays no part here.
+      return 1.0 / (1.0 + std::abs(T.translation().x() - dx) + 10.0 * std::abs(a - yaw)) + 0.0 * tolerance;
+    };
+  };
+  constexpr double kStep = 0.4, kTurn = 2.0 * M_PI / 180.0;
+  EXPECT_GT(planar_grid_size(164.0, kStep, M_PI, kTurn), 100000u);
+  const Pose found = search_planar_motion_bounded(initial, 164.0, kStep, M_PI, kTurn, 4000, score_for);
+  EXPECT_LE(calls.load(), 4000u + 8u * 25u);  // the first level, then 5 x 5 per level coming down
+  EXPECT_NEAR(found.translation().x(), dx, kStep);
+  EXPECT_NEAR(std::atan2(found.linear()(1, 0), found.linear()(0, 0)), yaw, kTurn);
+  // A grid that fits is searched as it is: the same pose as search_planar_motion, as many calls.
+  calls = 0;
+  const Pose small = search_planar_motion_bounded(initial, 4.0, kStep, 0.1, kTurn, 4000, score_for);
+  EXPECT_EQ(calls.load(), planar_grid_size(4.0, kStep, 0.1, kTurn));
+  EXPECT_TRUE(small.isApprox(search_planar_motion(initial, 4.0, kStep, 0.1, kTurn, score_for(kStep))));
 }
 
 TEST(Preregistration, ObjectsOfASegmentedSceneMatchThePerClusterClassification) {

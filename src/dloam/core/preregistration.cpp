@@ -141,6 +141,28 @@ Pose search_forward_translation(const Pose& initial, double range, double step,
   return search_planar_motion(initial, range, step, 0.0, 0.0, score);
 }
 
+std::size_t planar_grid_size(double range, double step, double yaw_range, double yaw_step) {
+  const double steps = step > 0.0 ? std::floor(range / step) : 0.0;
+  const double turns = yaw_step > 0.0 ? std::floor(yaw_range / yaw_step + 1e-9) : 0.0;
+  const double n = (2.0 * steps + 1.0) * (2.0 * turns + 1.0);
+  return n < 1e15 ? static_cast<std::size_t>(n) : std::size_t{1000000000000000};
+}
+
+Pose search_planar_motion_bounded(
+    const Pose& initial, double range, double step, double yaw_range, double yaw_step,
+    std::size_t max_candidates, const std::function<std::function<double(const Pose&)>(double)>& score_for) {
+  int levels = 0;
+  double s = step, a = yaw_step;
+  while (planar_grid_size(range, s, yaw_range, a) > std::max<std::size_t>(1, max_candidates) && levels < 60)
+    s *= 2.0, a *= 2.0, ++levels;
+  Pose best = search_planar_motion(initial, range, s, yaw_range, a, score_for(s));
+  for (; levels > 0; --levels) {  // around the best, within one step of the level above
+    best = search_planar_motion(best, s, 0.5 * s, a, 0.5 * a, score_for(0.5 * s));
+    s *= 0.5, a *= 0.5;
+  }
+  return best;
+}
+
 Pose search_planar_motion(const Pose& initial, double range, double step, double yaw_range, double yaw_step,
                           const std::function<double(const Pose&)>& score) {
   const int steps = step > 0.0 ? static_cast<int>(std::floor(range / step)) : 0;

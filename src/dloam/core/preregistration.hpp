@@ -79,6 +79,15 @@ Pose search_forward_translation(const Pose& initial, double range, double step,
 /// by `yaw_step` (rad); ties: the smallest |a|, then the smallest |dx|.
 Pose search_planar_motion(const Pose& initial, double range, double step, double yaw_range, double yaw_step,
                           const std::function<double(const Pose&)>& score);
+/// Candidates search_planar_motion scores for these ranges and steps.
+std::size_t planar_grid_size(double range, double step, double yaw_range, double yaw_step);
+/// search_planar_motion over long intervals: its grid steps double (from `step`, `yaw_step`)
+/// until a level holds at most `max_candidates`, then levels of halving steps around the best
+/// come back down to `step`, `yaw_step`; each level's score is `score_for(step)` (a tolerance
+/// that follows the step). With a grid that fits at once, this is search_planar_motion.
+Pose search_planar_motion_bounded(const Pose& initial, double range, double step, double yaw_range,
+                                  double yaw_step, std::size_t max_candidates,
+                                  const std::function<std::function<double(const Pose&)>(double)>& score_for);
 
 /// T_coarse between the object sets of the current scan and of the previous one (`target`, built
 /// from the previous ObjectSet), starting from `predicted`. Invalid (and equal to `predicted`)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dloam/core/preregistration.hpp"
 #include "dloam/core/se3.hpp"
 
 namespace dloam {
@@ -33,8 +34,20 @@ std::vector<double> offsets(double max, double step) {
 }  // namespace
 
 StepSearchResult search_step(const FeatureSource& source, const FeatureMap& target,
-                             const std::vector<Pose>& centres, const StepSearchOptions& options,
+                             const std::vector<Pose>& centres, const StepSearchOptions& requested,
                              const StepScore& score) {
+  StepSearchOptions options = requested;
+  const auto grid = [&] {
+    return planar_grid_size(options.max_translation, options.translation_step, options.max_rotation,
+                            options.rotation_step);
+  };
+  for (int level = 0; grid() > std::max<std::size_t>(1, options.max_candidates) && level < 60; ++level) {
+    options.translation_step *= 2.0;
+    options.rotation_step *= 2.0;
+    options.coarse_tolerance *= 2.0;
+  }
+  if (options.translation_step > requested.translation_step)
+    options.radii.insert(options.radii.begin(), options.translation_step);
   std::vector<Pose> candidates;
   for (std::size_t c = 0; c < centres.size(); ++c) {
     bool duplicate = false;

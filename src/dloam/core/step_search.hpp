@@ -29,6 +29,10 @@ struct StepSearchOptions {
   std::size_t refine = 6;
   std::vector<double> radii = {3.0, 1.0, 0.4};  ///< correspondence radii of the stages (m)
   int iterations = 4;                           ///< registration iterations per stage
+  /// Candidates per centre at most: over a long interval (scans dropped) the ranges grow with it,
+  /// and the steps and the coarse tolerance double until the grid fits; the registration then
+  /// starts with a radius of the translation step.
+  std::size_t max_candidates = 1000;
 };
 
 /// How well a motion (current -> previous scan frame) explains the two scans within a tolerance

@@ -52,13 +52,18 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
   constexpr double kStep = 0.2;               // m
   constexpr double kTurn = 0.5 * kDeg;        // rad
   constexpr double kFineStep = 0.04;          // m
+  // Scans dropped before the second one widen the ranges with the interval: past kMaxCandidates
+  // the coarse level starts coarser and comes down (a 4 s gap: 200 k candidates at these steps).
+  constexpr std::size_t kMaxCandidates = 4000;
   Pose start = prior.predicted;
   if (prior.yaw_range > 0.0) {
-    start = search_planar_motion(start, prior.search_range, kCoarseStep, prior.yaw_range, kCoarseTurn,
-                                 score_with(kCoarseStep));
+    start =
+        search_planar_motion_bounded(start, prior.search_range, kCoarseStep, std::min(prior.yaw_range, M_PI),
+                                     kCoarseTurn, kMaxCandidates, score_with);
     start = search_planar_motion(start, kCoarseStep, kStep, kCoarseTurn, kTurn, score_with(kStep));
   } else {
-    start = search_forward_translation(start, prior.search_range, kStep, score_with(kStep));
+    start =
+        search_planar_motion_bounded(start, prior.search_range, kStep, 0.0, 0.0, kMaxCandidates, score_with);
   }
   start = search_forward_translation(start, kStep, kFineStep, score_with(kFineStep));
   // The search result is no motion prior: the object ICP may move far from it (no motion gate).

@@ -1,5 +1,6 @@
 #include "dloam/pipeline/pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <numeric>
 #include <stdexcept>
@@ -134,7 +135,7 @@ bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, cons
     StepSearchOptions options;
     options.max_rotation = gated ? prior.gate.max_rotation
                                  : std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * dt);
-    options.max_translation = gated ? prior.gate.max_translation : config_.motion.max_speed * dt;
+    options.max_translation = gated ? prior.gate.max_translation : prior.search_range;
     const StepSearchResult r = search_step(
         source, *previous, {gated ? prior.predicted : Pose::Identity()}, options,
         [&](const Pose& T, double tolerance) { return consistency(seg, points, probe, T, tolerance); });
@@ -170,7 +171,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   prior.interval = interval;
   prior.predicted = motion_.predict(interval.dt);
   prior.gate = motion_.gate(interval.dt);
-  prior.search_range = config_.motion.max_speed * interval.dt;
+  // Beyond the sensor's range two scans share nothing: no step is searched farther (a long gap).
+  prior.search_range = std::min(config_.motion.max_speed * interval.dt, config_.sensor.max_range);
   prior.yaw_range = config_.motion.max_angular_speed_deg * M_PI / 180.0 * interval.dt;
   const Pose& predicted = prior.predicted;
 
