@@ -30,14 +30,12 @@ int main(int argc, char** argv) {
     ROS_INFO("dloam: %s preset, detector %s; listening on %s", config.sensor.preset.c_str(),
              std::string(dloam::name_of(config.detection.detector)).c_str(), params.points_topic.c_str());
     ros::spin();  // returns on shutdown (Ctrl-C, rosnode kill)
-    node.write_outputs();
-    if (!params.out.empty())  // rosconsole is shut down by now
-      std::printf(
-          "dloam: %zu scans; wrote poses.txt, poses_tum.txt, map.ply, moving.ply, timing.csv, config.yaml, "
-          "metrics.json to %s\n",
-          node.scans(), params.out.c_str());
+    if (!node.write_outputs()) return 1;
   } catch (const std::exception& e) {
-    ROS_FATAL("dloam: %s", e.what());
+    if (ros::isShuttingDown())  // rosconsole is shut down by now
+      std::fprintf(stderr, "dloam: error: %s\n", e.what());
+    else
+      ROS_FATAL("dloam: %s", e.what());
     return 1;
   }
   return 0;

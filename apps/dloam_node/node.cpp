@@ -1,6 +1,8 @@
 // dloam_node callbacks and outputs (see node.hpp).
 #include "node.hpp"
 
+#include <cstdio>
+
 #include "dloam/ros/pointcloud2.hpp"
 
 #ifdef DLOAM_HAVE_NAV_MSGS
@@ -142,12 +144,18 @@ void DloamNode::publish_map(const ::ros::Time& stamp) {
   map_pub_.publish(out);
 }
 
-void DloamNode::write_outputs() {
-  if (!outputs_) return;
+bool DloamNode::write_outputs() {
+  if (!outputs_) return true;
   const run::RunSummary s = outputs_->finish(pipeline_);  // the mapping-refined trajectory, as `dloam run`
-  for (const auto& problem : s.problems) ROS_ERROR("dloam: %s", problem.c_str());
-  ROS_INFO("dloam: wrote %s: %zu scans, %zu missing in the stamps, %zu bad messages skipped",
-           params_.out.c_str(), s.scans, missed_scans_, bad_messages_);
+  // Called once ros::spin() has returned: rosconsole is shut down, so stdout / stderr.
+  for (const auto& problem : s.problems) std::fprintf(stderr, "dloam: error: %s\n", problem.c_str());
+  std::printf(
+      "dloam: %zu scans, %zu missing in the stamps (dropped before the node or by its full queue), %zu bad "
+      "messages skipped; wrote poses.txt, poses_tum.txt, map.ply, moving.ply, timing.csv, config.yaml, "
+      "metrics.json to %s\n",
+      s.scans, missed_scans_, bad_messages_, params_.out.c_str());
+  std::fflush(stdout);
+  return s.problems.empty();
 }
 
 }  // namespace dloam::node

@@ -38,8 +38,9 @@ class DloamNode {
             std::shared_ptr<MovingSegmenter> cnn = nullptr);
   /// The output folder of `dloam run` (run/run_outputs.hpp) in params.out: poses.txt (KITTI, sensor
   /// frame), poses_tum.txt (header stamps), map.ply, moving.ply, timing.csv, config.yaml,
-  /// metrics.json (labels/ are written per scan).
-  void write_outputs();
+  /// metrics.json (labels/ are written per scan). Prints what it wrote, with the scans dropped;
+  /// false when a file could not be written.
+  bool write_outputs();
   [[nodiscard]] std::size_t scans() const { return scans_; }
 
  private:
