@@ -42,7 +42,7 @@ struct MappingConfig {
   double loop_max_fitness = 0.3;
   /// Loop closure runs beside the scans; its result is taken by the first scan this much later (0:
   /// at once, on the keyframe's own scan).
-  double loop_latency_s = 0.5;
+  double loop_latency_s = 1.5;
   /// After a loop is taken, keyframes search no loop for this long (a street revisited would
   /// otherwise close a loop at nearly every keyframe; each one re-optimises the whole graph).
   double loop_min_interval_s = 5.0;
