@@ -57,9 +57,8 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
   constexpr std::size_t kMaxCandidates = 4000;
   Pose start = prior.predicted;
   if (prior.yaw_range > 0.0) {
-    start =
-        search_planar_motion_bounded(start, prior.search_range, kCoarseStep, std::min(prior.yaw_range, M_PI),
-                                     kCoarseTurn, kMaxCandidates, score_with);
+    start = search_planar_motion_bounded(start, prior.search_range, kCoarseStep, prior.yaw_range, kCoarseTurn,
+                                         kMaxCandidates, score_with);
     start = search_planar_motion(start, kCoarseStep, kStep, kCoarseTurn, kTurn, score_with(kStep));
   } else {
     start =

@@ -30,7 +30,7 @@ struct StepPrior {
   ScanInterval interval;              ///< time since the previous scan, sweep duration
   MotionGate gate;                    ///< how far T_coarse may depart from the prediction
   double search_range = 4.0;          ///< m: forward translation searched when there is no prior
-  double yaw_range = 0.0;             ///< rad: turns searched when there is no prior
+  double yaw_range = 0.0;             ///< rad: turns searched when there is no prior (at most pi)
 };
 
 struct DynamicOutput {

@@ -129,12 +129,10 @@ bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, cons
         points[static_cast<std::size_t>(seg.image.point_of_pixel[static_cast<std::size_t>(probe[k])])]);
   const FeatureMap* previous = odometry_.previous();
   if (!previous) return false;
-  const double dt = prior.interval.dt;
   const bool known = motion_.known();
   auto search = [&](bool gated) {
     StepSearchOptions options;
-    options.max_rotation = gated ? prior.gate.max_rotation
-                                 : std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * dt);
+    options.max_rotation = gated ? prior.gate.max_rotation : prior.yaw_range;
     options.max_translation = gated ? prior.gate.max_translation : prior.search_range;
     const StepSearchResult r = search_step(
         source, *previous, {gated ? prior.predicted : Pose::Identity()}, options,
@@ -173,7 +171,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   prior.gate = motion_.gate(interval.dt);
   // Beyond the sensor's range two scans share nothing: no step is searched farther (a long gap).
   prior.search_range = std::min(config_.motion.max_speed * interval.dt, config_.sensor.max_range);
-  prior.yaw_range = config_.motion.max_angular_speed_deg * M_PI / 180.0 * interval.dt;
+  prior.yaw_range = std::min(M_PI, config_.motion.max_angular_speed_deg * M_PI / 180.0 * interval.dt);
   const Pose& predicted = prior.predicted;
 
   // Motion-distortion removal with the constant-velocity prediction (eq. 12), reference = mid-sweep.
