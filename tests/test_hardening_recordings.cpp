@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "dloam/drivers/ouster_metadata.hpp"
 #include "dloam/io/kitti.hpp"
@@ -97,6 +99,40 @@ TEST(HardeningRecordings, OusterMetadataWithANumberBeyondDoubleIsAnError) {
   const std::string msg = input_error_of([&] { (void)drivers::parse_ouster_metadata(json, "os.json"); });
   EXPECT_THAT(msg, HasSubstr("os.json: not valid JSON"));
   EXPECT_THAT(msg, HasSubstr("number overflow"));
+}
+
+TEST(HardeningRecordings, OusterMetadataWithLongRunsOfDigitsIsReadOrAnError) {
+  // Found by fuzz/fuzz_ouster_metadata.cpp: the beams of a product line and the firmware version
+  // were read with std::stoi, whose out_of_range escaped the reader for 20 digits.
+  auto with = [](const std::string& fields) {
+    return "{" + fields + R"(, "beam_altitude_angles": [1.5, -1.5], "beam_azimuth_angles": [0, 0]})";
+  };
+  const std::string many(20, '9');
+  EXPECT_THAT(input_error_of([&] {
+                (void)drivers::parse_ouster_metadata(
+                    with(R"("prod_line": "OS-1-)" + many + R"(", "lidar_mode": "1024x10")"), "os.json");
+              }),
+              HasSubstr("os.json: beam_altitude_angles: has 2 beams but prod_line is OS-1-999"));
+  const auto md = drivers::parse_ouster_metadata(
+      with(R"("build_rev": "v)" + many + R"(.0.1", "lidar_mode": "512x20")"), "os.json");
+  EXPECT_EQ(md.firmware, "v" + many + ".0.1");
+  EXPECT_GE(md.firmware_major, 3);
+  EXPECT_EQ(md.columns_per_frame, 512);
+  EXPECT_EQ(md.fps, 20.0);
+  // 60,000 digits: read in one pass (a recursive matcher would overflow the stack here).
+  const std::string long_run(60000, '7');
+  const auto md2 = drivers::parse_ouster_metadata(
+      with(R"("build_rev": "v1.)" + long_run + R"(", "image_rev": "v2.4.6", "lidar_mode": "2048x10")"),
+      "os.json");
+  EXPECT_EQ(md2.firmware, "v2.4.6");
+  EXPECT_EQ(md2.firmware_major, 2);
+  for (const std::string& mode :
+       std::vector<std::string>{"1x10", "123456x10", "1024x1000", "1024x", "1024x10 ", many + "x10"})
+    EXPECT_THAT(input_error_of([&] {
+                  (void)drivers::parse_ouster_metadata(with(R"("lidar_mode": ")" + mode + "\""), "os.json");
+                }),
+                HasSubstr("os.json: lidar_mode: expected COLUMNSxRATE"))
+        << mode;
 }
 
 }  // namespace dloam::test

@@ -1,12 +1,13 @@
 #include "dloam/drivers/ouster_metadata.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
+#include <string>
 
 #include "dloam/core/types.hpp"
 
@@ -131,12 +132,75 @@ OusterProfile profile_of(const Reader& rd, const std::string& key, const std::st
   rd.fail(key, "unsupported lidar profile \"" + name + "\" (supported: " + known + ")");
 }
 
-/// Beams of a product line ("OS-0-128-U1" -> 128), 0 when the name does not say.
+/// The run of decimal digits of `s` starting at `i`: its length, and its value in `value`
+/// (saturated at 10^9, so that no run of digits overflows). No std::regex here: its matcher
+/// recurses once per character and overflows the stack on long strings.
+std::size_t digits_at(const std::string& s, std::size_t i, long long& value) {
+  std::size_t n = 0;
+  value = 0;
+  while (i + n < s.size() && s[i + n] >= '0' && s[i + n] <= '9') {
+    value = std::min<long long>(value * 10 + (s[i + n] - '0'), 1000000000LL);
+    ++n;
+  }
+  return n;
+}
+
+bool starts_with_icase(const std::string& s, std::size_t i, const char* prefix) {
+  for (; *prefix; ++prefix, ++i)
+    if (i >= s.size() || std::toupper(static_cast<unsigned char>(s[i])) != *prefix) return false;
+  return true;
+}
+
+/// Beams of a product line ("OS-0-128-U1", "OS1-64", "os-dome-32" -> 128, 64, 32), 0 when the
+/// name does not say.
 int beams_of_prod_line(const std::string& prod_line) {
-  static const std::regex kLine(R"(^OS-?(?:0|1|2|DOME)-(\d+))", std::regex::icase);
-  std::smatch m;
-  if (std::regex_search(prod_line, m, kLine)) return std::stoi(m[1].str());
-  return 0;
+  if (!starts_with_icase(prod_line, 0, "OS")) return 0;
+  std::size_t i = 2;
+  if (i < prod_line.size() && prod_line[i] == '-') ++i;
+  bool model = false;
+  for (const char* m : {"0-", "1-", "2-", "DOME-"}) {
+    if (starts_with_icase(prod_line, i, m)) {
+      i += std::char_traits<char>::length(m);
+      model = true;
+      break;
+    }
+  }
+  long long beams = 0;
+  if (!model || digits_at(prod_line, i, beams) == 0) return 0;
+  return static_cast<int>(beams);
+}
+
+/// The first "vMAJOR.MINOR.PATCH" in `s` ("ousteros-image-prod-aries-v2.1.1+..." -> v2.1.1, 2).
+bool find_version(const std::string& s, std::string& version, int& major) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] != 'v') continue;
+    std::size_t j = i + 1;
+    long long number = 0, first = 0;
+    bool ok = true;
+    for (int part = 0; part < 3 && ok; ++part) {
+      const std::size_t n = digits_at(s, j, number);
+      if (part == 0) first = number;
+      ok = n > 0 && (part == 2 || (j + n < s.size() && s[j + n] == '.'));
+      j += n + (part < 2 ? 1 : 0);
+    }
+    if (!ok) continue;
+    version = s.substr(i, j - i);
+    major = static_cast<int>(first);
+    return true;
+  }
+  return false;
+}
+
+/// "1024x10" -> 1024 columns at 10 Hz: 2 to 5 digits, 'x', 1 to 3 digits, nothing else.
+bool parse_lidar_mode(const std::string& mode, int& columns, int& fps) {
+  long long c = 0, f = 0;
+  const std::size_t nc = digits_at(mode, 0, c);
+  if (nc < 2 || nc > 5 || nc >= mode.size() || mode[nc] != 'x') return false;
+  const std::size_t nf = digits_at(mode, nc + 1, f);
+  if (nf < 1 || nf > 3 || nc + 1 + nf != mode.size()) return false;
+  columns = static_cast<int>(c);
+  fps = static_cast<int>(f);
+  return true;
 }
 
 /// ouster-sdk's lidar_origin_to_beam_origin_mm when the file has none (per product line).
@@ -259,19 +323,9 @@ OusterMetadata parse_metadata(const std::string& text, const std::string& source
     if (id < 0 || id > 0xFFFFFF) rd.fail(nm(L.sensor_info, "initialization_id"), "must fit in 24 bits");
     md.init_id = static_cast<std::uint32_t>(id);
   }
-  {
-    static const std::regex kVersion(R"(v(\d+)\.(\d+)\.(\d+))");
-    for (const char* k : {"build_rev", "image_rev"}) {
-      const json* v = get(L.sensor_info, k);
-      if (!v || !v->is_string()) continue;
-      const std::string s = v->get<std::string>();
-      std::smatch m;
-      if (std::regex_search(s, m, kVersion)) {
-        md.firmware = m[0].str();
-        md.firmware_major = std::stoi(m[1].str());
-        break;
-      }
-    }
+  for (const char* k : {"build_rev", "image_rev"}) {
+    const json* v = get(L.sensor_info, k);
+    if (v && v->is_string() && find_version(v->get<std::string>(), md.firmware, md.firmware_major)) break;
   }
 
   // Beam angles (required).
@@ -305,13 +359,11 @@ OusterMetadata parse_metadata(const std::string& text, const std::string& source
   // Lidar mode and data format.
   if (const json* v = get(L.config, "lidar_mode")) {
     md.lidar_mode = rd.string(*v, nm(L.config, "lidar_mode"));
-    static const std::regex kMode(R"(^(\d{2,5})x(\d{1,3})$)");
-    std::smatch m;
-    if (!std::regex_match(md.lidar_mode, m, kMode))
+    int fps = 0;
+    if (!parse_lidar_mode(md.lidar_mode, md.columns_per_frame, fps))
       rd.fail(nm(L.config, "lidar_mode"),
               "expected COLUMNSxRATE such as \"1024x10\", got \"" + md.lidar_mode + "\"");
-    md.columns_per_frame = std::stoi(m[1].str());
-    md.fps = std::stoi(m[2].str());
+    md.fps = fps;
   }
   const json* df = nullptr;
   if (const auto it = root.find(L.data_format[0]); it != root.end()) {
