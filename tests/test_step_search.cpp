@@ -2,6 +2,7 @@
 // interval, and stays bounded when scans were dropped for seconds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -46,4 +47,37 @@ TEST(StepSearch, ALongIntervalSearchesABoundedGrid) {
   EXPECT_GT(far.candidates, 100u);
   EXPECT_LE(far.candidates, options.max_candidates);
   EXPECT_LT(far.T.translation().norm(), 0.05);
+}
+
+TEST(StepSearch, ANearlyRightCentreIsNotPulledOntoAnObjectThatMoved) {
+  // The previous scan: the room and the back of a vehicle; the current one: the same room, the
+  // vehicle 1.5 m further along x (it drove on). The sensor stood still.
+  FeatureSource source = room();
+  const std::size_t static_points = source.planes.size();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3> vehicle;
+  for (int i = 0; i < 1500; ++i)
+    vehicle.emplace_back(6.0, 2.0 + 2.0 * u(rng), -1.5 + 1.5 * u(rng));  // its back, facing the sensor
+  std::vector<Vec3> previous = source.planes;
+  for (const Vec3& p : vehicle) {
+    previous.push_back(p);
+    source.planes.push_back(p + Vec3(1.5, 0.0, 0.0));
+  }
+  FeatureMap target;
+  target.planes.build(previous);
+  // The caller's score: how close the static points come back onto themselves (1: exactly).
+  const StepScore score = [&](const Pose& T, double tolerance) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < static_points; ++i)
+      sum += std::max(0.0, 1.0 - (T * source.planes[i] - source.planes[i]).norm() / tolerance);
+    return sum / static_cast<double>(static_points);
+  };
+  StepSearchOptions options;
+  options.max_translation = 2.0;
+  options.max_rotation = 0.0;
+  const Pose centre = Pose(Eigen::Translation3d(0.05, 0.0, 0.0));  // the prediction, 5 cm off
+  const StepSearchResult r = search_step(source, target, {centre}, options, score);
+  EXPECT_LT(r.T.translation().norm(), 0.03);
+  EXPECT_GT(r.fitness, 0.85);
 }

@@ -48,19 +48,19 @@ StepSearchResult search_step(const FeatureSource& source, const FeatureMap& targ
   }
   if (options.translation_step > requested.translation_step)
     options.radii.insert(options.radii.begin(), options.translation_step);
+  std::vector<Pose> unique;
+  for (const Pose& c : centres)
+    if (std::none_of(unique.begin(), unique.end(), [&](const Pose& u) { return c.isApprox(u, 1e-9); }))
+      unique.push_back(c);
   std::vector<Pose> candidates;
-  for (std::size_t c = 0; c < centres.size(); ++c) {
-    bool duplicate = false;
-    for (std::size_t d = 0; d < c; ++d) duplicate = duplicate || centres[c].isApprox(centres[d], 1e-9);
-    if (duplicate) continue;
+  for (const Pose& centre : unique)
     for (double yaw : offsets(options.max_rotation, options.rotation_step))
       for (double dx : offsets(options.max_translation, options.translation_step)) {
         Pose offset = Pose::Identity();
         offset.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
         offset.translation() = Vec3(dx, 0.0, 0.0);
-        candidates.push_back(centres[c] * offset);
+        candidates.push_back(centre * offset);
       }
-  }
   StepSearchResult best;
   best.candidates = candidates.size();
   if (candidates.empty()) return best;
@@ -72,16 +72,30 @@ StepSearchResult search_step(const FeatureSource& source, const FeatureMap& targ
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return coarse[a] > coarse[b]; });
   order.resize(std::min(order.size(), std::max<std::size_t>(1, options.refine)));
-  std::vector<Pose> refined(order.size());
-  std::vector<double> fine(order.size());
-  tbb::parallel_for(std::size_t{0}, order.size(), [&](std::size_t k) {
-    Pose T = candidates[order[k]];
-    for (double radius : options.radii)
-      T = register_features(source, target, T, stage_params(radius, options.iterations)).T;
+  // Each centre is also registered with the stages after the first alone: a nearly right
+  // prediction stays where it is, where the widest radius can pull it onto an object that moved
+  // (a vehicle beside the sensor) or a structure one spacing along (a row of posts).
+  std::vector<Pose> starts;
+  std::vector<bool> local;
+  for (const std::size_t i : order) {
+    starts.push_back(candidates[i]);
+    local.push_back(false);
+  }
+  if (options.radii.size() > 1)
+    for (const Pose& centre : unique) {
+      starts.push_back(centre);
+      local.push_back(true);
+    }
+  std::vector<Pose> refined(starts.size());
+  std::vector<double> fine(starts.size());
+  tbb::parallel_for(std::size_t{0}, starts.size(), [&](std::size_t k) {
+    Pose T = starts[k];
+    for (std::size_t r = local[k] ? 1 : 0; r < options.radii.size(); ++r)
+      T = register_features(source, target, T, stage_params(options.radii[r], options.iterations)).T;
     refined[k] = T;
     fine[k] = score(T, options.fine_tolerance);
   });
-  for (std::size_t k = 0; k < order.size(); ++k) {
+  for (std::size_t k = 0; k < starts.size(); ++k) {
     if (k == 0 || fine[k] > best.fitness) {
       best.fitness = fine[k];
       best.T = refined[k];

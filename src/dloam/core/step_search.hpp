@@ -47,7 +47,9 @@ struct StepSearchResult {
 
 /// Searches around each of `centres` (e.g. the prediction and the identity, duplicates skipped):
 /// every combination of a yaw and a travel candidate is scored; from the best few, `source` is
-/// registered onto `target` coarse to fine, and the best fine score wins (ties: the earlier
+/// registered onto `target` coarse to fine. Each centre is also registered with the stages after
+/// the first alone, so that a nearly right prediction is not pulled by the widest radius onto an
+/// object that moved or a structure one spacing along. The best fine score wins (ties: the earlier
 /// candidate, so the result does not depend on the thread schedule).
 StepSearchResult search_step(const FeatureSource& source, const FeatureMap& target,
                              const std::vector<Pose>& centres, const StepSearchOptions& options,
