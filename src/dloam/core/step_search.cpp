@@ -75,22 +75,19 @@ StepSearchResult search_step(const FeatureSource& source, const FeatureMap& targ
   // Each centre is also registered with the stages after the first alone: a nearly right
   // prediction stays where it is, where the widest radius can pull it onto an object that moved
   // (a vehicle beside the sensor) or a structure one spacing along (a row of posts).
-  std::vector<Pose> starts;
-  std::vector<bool> local;
-  for (const std::size_t i : order) {
-    starts.push_back(candidates[i]);
-    local.push_back(false);
-  }
+  struct Start {
+    Pose T;
+    std::size_t first_stage;
+  };
+  std::vector<Start> starts;
+  for (const std::size_t i : order) starts.push_back({candidates[i], 0});
   if (options.radii.size() > 1)
-    for (const Pose& centre : unique) {
-      starts.push_back(centre);
-      local.push_back(true);
-    }
+    for (const Pose& centre : unique) starts.push_back({centre, 1});
   std::vector<Pose> refined(starts.size());
   std::vector<double> fine(starts.size());
   tbb::parallel_for(std::size_t{0}, starts.size(), [&](std::size_t k) {
-    Pose T = starts[k];
-    for (std::size_t r = local[k] ? 1 : 0; r < options.radii.size(); ++r)
+    Pose T = starts[k].T;
+    for (std::size_t r = starts[k].first_stage; r < options.radii.size(); ++r)
       T = register_features(source, target, T, stage_params(options.radii[r], options.iterations)).T;
     refined[k] = T;
     fine[k] = score(T, options.fine_tolerance);

@@ -192,14 +192,14 @@ bool find_version(const std::string& s, std::string& version, int& major) {
 }
 
 /// "1024x10" -> 1024 columns at 10 Hz: 2 to 5 digits, 'x', 1 to 3 digits, nothing else.
-bool parse_lidar_mode(const std::string& mode, int& columns, int& fps) {
+bool parse_lidar_mode(const std::string& mode, int& columns, double& fps) {
   long long c = 0, f = 0;
   const std::size_t nc = digits_at(mode, 0, c);
   if (nc < 2 || nc > 5 || nc >= mode.size() || mode[nc] != 'x') return false;
   const std::size_t nf = digits_at(mode, nc + 1, f);
   if (nf < 1 || nf > 3 || nc + 1 + nf != mode.size()) return false;
   columns = static_cast<int>(c);
-  fps = static_cast<int>(f);
+  fps = static_cast<double>(f);
   return true;
 }
 
@@ -359,11 +359,9 @@ OusterMetadata parse_metadata(const std::string& text, const std::string& source
   // Lidar mode and data format.
   if (const json* v = get(L.config, "lidar_mode")) {
     md.lidar_mode = rd.string(*v, nm(L.config, "lidar_mode"));
-    int fps = 0;
-    if (!parse_lidar_mode(md.lidar_mode, md.columns_per_frame, fps))
+    if (!parse_lidar_mode(md.lidar_mode, md.columns_per_frame, md.fps))
       rd.fail(nm(L.config, "lidar_mode"),
               "expected COLUMNSxRATE such as \"1024x10\", got \"" + md.lidar_mode + "\"");
-    md.fps = fps;
   }
   const json* df = nullptr;
   if (const auto it = root.find(L.data_format[0]); it != root.end()) {
