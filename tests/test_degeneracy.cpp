@@ -2,7 +2,8 @@
 // unconstrained direction and the estimate keeps the prior's value along it while the other
 // directions are solved, closed at both ends nothing is flagged; a simulated drive through a
 // tunnel is flagged along the tunnel axis, the street before and after it is not, and the
-// position error along the axis stays bounded.
+// position error along the axis stays bounded; the scan-to-map registration estimates a translation
+// its share test alone leaves unconstrained where the odometry constrains it (a highway's travel).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -85,6 +86,54 @@ TEST(Degeneracy, CorridorAxisKeepsThePriorAndTheOtherDirectionsAreSolved) {
   EXPECT_NEAR(c.T.translation().y(), 0.1, 0.01);
 }
 
+namespace {
+/// A normal matrix in twist coordinates [rad; m] with the given translation eigenvalues (features'
+/// worth) along the axes and well-constrained rotations.
+Mat6 normal_matrix(const Vec3& translation, const DegeneracyConfig& config) {
+  Vec6 scaled;
+  scaled << 5000.0, 5000.0, 5000.0, translation;
+  Mat6 H = Mat6(scaled.asDiagonal());
+  H.topRows<3>() *= config.rotation_radius;  // scaled -> twist coordinates (D^-1 S D^-1)
+  H.leftCols<3>() *= config.rotation_radius;
+  return H;
+}
+}  // namespace
+
+TEST(Degeneracy, ATranslationOnlyTheMapsShareLeavesUnconstrainedIsEstimatedWhereTheOdometryConstrainsIt) {
+  const DegeneracyConfig config;  // min_features 30, min_fraction 0.08, odometry_min_features 60
+  // The map: 6000 matches (share threshold 480), 150 features' worth along x (a highway's posts).
+  const Mat6 map = normal_matrix({150.0, 3000.0, 4000.0}, config);
+  EXPECT_EQ(unconstrained_names(analyse_degeneracy(map, 6000, kAllDof, config)), "x");
+
+  // The odometry of the same scan, in the previous scan's frame, turned 90 deg from the map's:
+  // its y is the map's x. 600 matches, 80 features' worth along it.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()).toRotationMatrix();
+  const Degeneracy odometry =
+      analyse_degeneracy(normal_matrix({500.0, 80.0, 500.0}, config), 600, kAllDof, config);
+  EXPECT_FALSE(odometry.degenerate());
+  const SecondOpinion seen = second_opinion(odometry, R);
+  EXPECT_NEAR(seen.scaled_normal_matrix(3, 3), 80.0, 1e-6);  // the map's x
+  EXPECT_NEAR(seen.scaled_normal_matrix(4, 4), 500.0, 1e-6);
+  EXPECT_EQ(seen.matches, 600);
+  EXPECT_FALSE(analyse_degeneracy(map, 6000, kAllDof, config, {}, &seen).degenerate());
+
+  // An odometry with 40 features' worth along the map's x (below odometry_min_features; a tunnel's
+  // ring patterns): the map's x stays unconstrained.
+  const Degeneracy weak =
+      analyse_degeneracy(normal_matrix({500.0, 40.0, 500.0}, config), 600, kAllDof, config);
+  const SecondOpinion weak_seen = second_opinion(weak, R);
+  EXPECT_EQ(unconstrained_names(analyse_degeneracy(map, 6000, kAllDof, config, {}, &weak_seen)), "x");
+
+  // Below min_features the map's direction stays unconstrained whatever the odometry says.
+  const Mat6 bare = normal_matrix({20.0, 3000.0, 4000.0}, config);
+  EXPECT_EQ(unconstrained_names(analyse_degeneracy(bare, 6000, kAllDof, config, {}, &seen)), "x");
+
+  // odometry_min_features 0: the map's own tests decide.
+  DegeneracyConfig off = config;
+  off.odometry_min_features = 0.0;
+  EXPECT_EQ(unconstrained_names(analyse_degeneracy(map, 6000, kAllDof, off, {}, &seen)), "x");
+}
+
 TEST(Degeneracy, SimulatedTunnelIsFlaggedAlongItsAxisAndTheErrorAlongItStaysBounded) {
   // 200 m: 30 m of street, 140 m of tunnel with smooth walls, 30 m of street; 10 m/s, no traffic.
   constexpr int kFrames = 200;
@@ -135,4 +184,51 @@ TEST(Degeneracy, SimulatedTunnelIsFlaggedAlongItsAxisAndTheErrorAlongItStaysBoun
               worst, kFrames);
   EXPECT_LT(worst_axis, 1.5);
   EXPECT_LT(worst, 3.0);
+}
+
+TEST(Degeneracy, OnAHighwayTheMapCorrectsTheDriftAlongTheRoadThatTheOdometryMeasures) {
+  // 150 m of highway at 25 m/s with traffic: guard rails, posts and a few signs along the road
+  // give the map some hundred features' worth of its thousands along the travel, under its share
+  // threshold; the odometry's own features often measure the travel. Two pipelines over the same
+  // scans: the default (the map asks the odometry) and the map's own tests alone.
+  constexpr int kFrames = 60;
+  const SensorConfig sensor = sensor_preset("HDL-64E");
+  sim::Simulator sim = test::make_simulator(sim::ScenarioKind::Highway, kFrames, 12, sensor, 3.0);
+  PipelineConfig config;
+  config.sensor = sensor;
+  config.detection.detector = Detector::kGeometric;
+  PipelineConfig alone = config;
+  alone.degeneracy.odometry_min_features = 0.0;
+  Pipeline asking(config), own(alone);
+  std::vector<Pose> gt;
+  int flagged_asking = 0, flagged_own = 0, mapped = 0;
+  const auto along_x = [](const Degeneracy& d) {
+    for (int a = 0; a < d.unconstrained; ++a)
+      if (direction_name(d.eigenvectors.col(a)) == "x") return 1;
+    return 0;
+  };
+  for (int k = 0; k < kFrames; ++k) {
+    const sim::SimFrame f = sim.frame(k);
+    const ScanResult a = asking.process(f.scan.cloud);
+    const ScanResult o = own.process(f.scan.cloud);
+    gt.push_back(f.pose);
+    if (k < 10) continue;
+    ++mapped;
+    flagged_asking += along_x(a.map_degeneracy);
+    flagged_own += along_x(o.map_degeneracy);
+  }
+  const test::EndPointError ea = test::end_point_error(asking.trajectory(), gt);
+  const test::EndPointError eo = test::end_point_error(own.trajectory(), gt);
+  const double path = ea.truth.translation().norm();
+  std::printf("scans 10-%d with x unconstrained in the map: asking the odometry %d, alone %d of %d\n",
+              kFrames - 1, flagged_asking, flagged_own, mapped);
+  std::printf("end-point error over %.1f m: asking %.3f m, alone %.3f m\n", path,
+              ea.error.translation().norm(), eo.error.translation().norm());
+  // The map alone leaves the travel to the odometry on nearly every scan; asked, it estimates it
+  // on the scans where the odometry measured it (15 of 50 on this drive).
+  EXPECT_GE(flagged_own, mapped * 8 / 10);
+  EXPECT_LE(flagged_asking, flagged_own - mapped / 5);
+  // Tracked along the road either way (0.32 m and 0.30 m measured, 0.2 %).
+  EXPECT_LT(ea.error.translation().norm(), 0.005 * path);
+  EXPECT_LT(eo.error.translation().norm(), 0.005 * path);
 }

@@ -27,8 +27,15 @@ Mat6 to_scaled_normal_matrix(const Mat6& H, const DegeneracyConfig& config) {
   return S;
 }
 
+SecondOpinion second_opinion(const Degeneracy& odometry, const Eigen::Matrix3d& R) {
+  Mat6 A = Mat6::Zero();  // scaled twists rotate block by block: [R omega * radius; R v]
+  A.topLeftCorner<3, 3>() = R;
+  A.bottomRightCorner<3, 3>() = R;
+  return {A * odometry.scaled_normal_matrix() * A.transpose(), odometry.matches};
+}
+
 Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, const DegeneracyConfig& config,
-                              const PriorError& prior) {
+                              const PriorError& prior, const SecondOpinion* second) {
   Degeneracy out;
   out.matches = matches;
   // A feature adds at most 1 to a translation (its unit normal or line normal along it), so the
@@ -57,7 +64,12 @@ Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, co
     // The prior's possible error along v (scaled coordinates: rotations at rotation_radius).
     const double prior_error =
         v.head<3>().norm() * prior.rotation * config.rotation_radius + v.tail<3>().norm() * prior.translation;
-    const bool constrained = !(es.eigenvalues()(a) < threshold);
+    bool constrained = !(es.eigenvalues()(a) < threshold);
+    if (!constrained && second && translation && config.odometry_min_features > 0.0 &&
+        !(es.eigenvalues()(a) < config.min_features)) {
+      const double seen = v.dot(second->scaled_normal_matrix * v);
+      constrained = !(seen < std::max(config.odometry_min_features, config.min_fraction * second->matches));
+    }
     order.emplace_back(constrained ? 2 : prior_error <= config.max_prior_error ? 0 : 1, a);
   }
   std::stable_sort(order.begin(), order.end(),

@@ -34,6 +34,22 @@ struct DegeneracyConfig {
   /// (0.35 m at 20 m): it is kept; a handheld scanner's by 10.5 deg (3.7 m): a turn that starts or
   /// stops within the interval is not replaced by the turn rate of the interval before.
   double max_prior_error = 1.0;
+  /// The scan-to-map registration asks the odometry: a translation that only the share test
+  /// (min_fraction) leaves unconstrained there is estimated from the map after all where the
+  /// odometry's own features constrain it by at least this many features' worth (and its share,
+  /// SecondOpinion). The map's share is small where its many ground and wall planes outnumber the
+  /// few features along the road (a highway's posts); where the odometry, too, finds little along
+  /// the direction (a tunnel) the map's few features are the noise the share test guards against.
+  /// 0: the map's own tests decide.
+  double odometry_min_features = 60.0;
+};
+
+/// A second, independent registration of the same motion (the odometry, scan to scan, beside the
+/// scan-to-map registration): its normal matrix in the scaled twist coordinates of the first
+/// registration's frame, and the features it matched.
+struct SecondOpinion {
+  Mat6 scaled_normal_matrix = Mat6::Zero();
+  int matches = 0;
 };
 
 /// How far a motion prior can be from the truth (the motion gate: what the platform's accelerations
@@ -69,6 +85,11 @@ struct Degeneracy {
   [[nodiscard]] bool keeps_prior() const { return held > 0; }
   /// The smallest eigenvalue (0 when nothing was analysed).
   [[nodiscard]] double weakest() const { return free > 0 ? eigenvalues.head(free).minCoeff() : 0.0; }
+  /// The analysed normal matrix in scaled twist coordinates (zero outside the free degrees of freedom).
+  [[nodiscard]] Mat6 scaled_normal_matrix() const {
+    return eigenvectors.leftCols(free) * eigenvalues.head(free).asDiagonal() *
+           eigenvectors.leftCols(free).transpose();
+  }
   /// The unit eigenvector of the first unconstrained direction, else of the smallest eigenvalue.
   [[nodiscard]] Vec6 weakest_direction() const {
     Eigen::Index i = 0;
@@ -80,8 +101,15 @@ struct Degeneracy {
 /// `H`: J^T W J of `matches` matched features over all six degrees of freedom in twist coordinates
 /// [rad; m] (rotations about the sensor position). Only the degrees of freedom in `dof` are analysed.
 /// `prior`: how far the prior that unconstrained directions would keep can be off (Degeneracy::held).
+/// `second`: a translation below the share threshold only (not below min_features) counts as
+/// constrained when the second registration constrains it (DegeneracyConfig::odometry_min_features).
 Degeneracy analyse_degeneracy(const Mat6& H, int matches, const DofMask& dof, const DegeneracyConfig& config,
-                              const PriorError& prior = {});
+                              const PriorError& prior = {}, const SecondOpinion* second = nullptr);
+
+/// The odometry's degeneracy (all six degrees of freedom, in the previous scan's frame) as a second
+/// opinion in a frame rotated by `R` from it (the world frame of the scan-to-map registration:
+/// R is the previous scan's world rotation). Both frames' twists are about the sensor position.
+SecondOpinion second_opinion(const Degeneracy& odometry, const Eigen::Matrix3d& R);
 
 /// [rotation; translation] (rad, m) -> scaled twist coordinates, and back.
 Vec6 to_scaled(const Vec6& twist, const DegeneracyConfig& config);

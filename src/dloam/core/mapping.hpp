@@ -77,9 +77,11 @@ class Mapper {
 
   /// Features in the scan's sensor frame; `predicted` world pose from the odometry. `scan` indices
   /// increase. `keyframe`: whether the scan becomes a keyframe (at its registered pose); when not
-  /// given, needs_keyframe() of the registered pose decides.
+  /// given, needs_keyframe() of the registered pose decides. `odometry`: the odometry's degeneracy
+  /// of the scan in the world frame (second_opinion), asked when degeneracy.odometry_min_features > 0.
   MappingResult process(std::size_t scan, const FeatureSource& features, const Pose& predicted,
-                        std::optional<bool> keyframe = std::nullopt);
+                        std::optional<bool> keyframe = std::nullopt,
+                        const std::optional<SecondOpinion>& odometry = std::nullopt);
 
   /// Adds static points (sensor frame) of the newest keyframe's scan to the global map.
   void add_to_global_map(const std::vector<Vec3>& points);

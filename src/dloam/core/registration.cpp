@@ -202,7 +202,8 @@ RegistrationResult register_features(const FeatureSource& src, const FeatureMap&
       // The unconstrained directions at the initial guess (Zhang, Kaess & Singh 2016). They stay
       // fixed: re-deciding at every iteration let the estimate creep along a weak direction.
       analysed = true;
-      res.degeneracy = analyse_degeneracy(H, matches, params.dof, dc, params.prior_error);
+      res.degeneracy = analyse_degeneracy(H, matches, params.dof, dc, params.prior_error,
+                                          params.second_opinion ? &*params.second_opinion : nullptr);
       // The directions held by the prior, then the ones the iterations move along: the constrained
       // ones and those unconstrained ones where the prior can be further off than the data.
       const int u = res.degeneracy.held;

@@ -50,6 +50,9 @@ struct RegistrationParams {
   /// How far the prior can be off: only directions where that is within degeneracy.max_prior_error
   /// keep it (Degeneracy::held); zero: all unconstrained ones do.
   PriorError prior_error;
+  /// Another registration of the same motion, asked about translations the share test alone leaves
+  /// unconstrained (analyse_degeneracy).
+  std::optional<SecondOpinion> second_opinion;
   double convergence_rotation = 1e-5;     ///< rad
   double convergence_translation = 1e-4;  ///< m
   /// Nearest neighbours are searched again when the pose moved more than this since the last search.

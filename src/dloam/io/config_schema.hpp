@@ -195,6 +195,10 @@ void visit(DegeneracyConfig& c, V& v) {
     "m: ... only where the prior can be off by less than this (the motion gate, rotations at "
     "rotation_radius)",
     at_least(0));
+  v("odometry_min_features", c.odometry_min_features,
+    "scan-to-map: a translation only min_fraction leaves unconstrained is estimated where the odometry "
+    "constrains it by this many features' worth (0: never)",
+    at_least(0));
 }
 
 template <class V>

@@ -368,6 +368,10 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
   in.features = {features.F_e, features.F_p, {}, {}};
   in.predicted = normalized(correction_ * odometry_pose_);
   in.keyframe = mapper_.needs_keyframe(in.predicted);
+  // The odometry's registration of this scan (to the previous one, whose world rotation turns its
+  // twists into the map's), unless its step was found not to fit.
+  if (count_ > 0 && out.degeneracy.free == 6 && !out.lost)
+    in.odometry = second_opinion(out.degeneracy, (correction_ * odometry_poses_[count_ - 1]).linear());
   out.mapped = true;
   out.keyframe = in.keyframe;
   // A keyframe whose scan gave no map points (the first scan with a detector on: its moving
@@ -414,7 +418,7 @@ void Pipeline::start_job(MappingInput input) {
     MappingOutput o;
     const std::string where = "mapping of scan " + std::to_string(in.scan) + ": ";
     try {
-      o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe);
+      o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe, in.odometry);
       if (in.keyframe) {
         mapper_.add_to_global_map(in.points);
       } else if (!in.points.empty()) {  // the points of a keyframe that had none (map_scan)

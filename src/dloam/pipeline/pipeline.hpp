@@ -105,6 +105,7 @@ class Pipeline {
     std::vector<Vec3> points;  ///< static points for the global map (keyframes only)
     Pose predicted = Pose::Identity();
     bool keyframe = false;
+    std::optional<SecondOpinion> odometry;  ///< the odometry's degeneracy, world frame
   };
   struct MappingOutput {
     MappingResult result;
