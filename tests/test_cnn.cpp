@@ -3,14 +3,17 @@
 // seed was never used for training (models/MODEL.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 
 #include "dloam/cnn/cnn_segmenter.hpp"
 #include "dloam/cnn/mos_net.hpp"
 #include "dloam/cnn/torch_util.hpp"
 #include "dloam/cnn/trainer.hpp"
+#include "dloam/core/se3.hpp"
 #include "dloam/eval/mos_metrics.hpp"
 #include "dloam/io/kitti.hpp"
 #include "dloam/pipeline/pipeline.hpp"
@@ -200,4 +203,191 @@ TEST(MosTrainer, TrainsAndCheckpointsOnATinySimulatedSequence) {
     EXPECT_TRUE(fs::exists(o.out + ".last"));
     EXPECT_TRUE(fs::exists(o.out + ".csv"));
   }
+}
+
+TEST(MosDataset, ASourceSpecNamesItsRunFolderWeightAndSensorConfig) {
+  const cnn::MosSource plain = cnn::parse_mos_source("drives/a");
+  EXPECT_EQ(plain.dir, "drives/a");
+  EXPECT_TRUE(plain.run_dir.empty());
+  EXPECT_EQ(plain.weight, 1.0);
+  const cnn::MosSource full = cnn::parse_mos_source("real/k,run=out/k,weight=2.5,config=kitti-raw");
+  EXPECT_EQ(full.dir, "real/k");
+  EXPECT_EQ(full.run_dir, "out/k");
+  EXPECT_EQ(full.weight, 2.5);
+  EXPECT_EQ(full.config, "kitti-raw");
+  for (const char* bad : {",run=x", "a,run", "a,run=", "a,colour=red", "a,weight=0", "a,weight=-1",
+                          "a,weight=2x", "a,weight=nan", "a,weight=1e9"}) {
+    try {
+      (void)cnn::parse_mos_source(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
+}
+
+namespace {
+/// A tiny simulated drive in the SemanticKITTI layout (its own labels and poses).
+fs::path write_tiny_drive(const std::string& name, int frames, const SensorConfig& sensor) {
+  const fs::path dir = temp_path(name);
+  fs::remove_all(dir);
+  fs::create_directories(dir / "velodyne");
+  fs::create_directories(dir / "labels");
+  sim::Simulator simulator = test::make_simulator(sim::ScenarioKind::Urban, frames, 4, sensor, 3.0);
+  std::vector<Pose> poses;
+  for (int k = 0; k < frames; ++k) {
+    const sim::SimFrame f = simulator.frame(k);
+    const std::string scan = io::scan_name(static_cast<std::size_t>(k));
+    io::write_kitti_bin((dir / "velodyne" / (scan + ".bin")).string(), f.scan.cloud);
+    io::write_labels((dir / "labels" / (scan + ".label")).string(), f.scan.labels);
+    poses.push_back(f.pose);
+  }
+  io::write_kitti_poses((dir / "poses.txt").string(), poses);
+  return dir;
+}
+
+std::size_t moving_targets(const cnn::MosSequence& seq) {
+  std::size_t n = 0;
+  for (const cnn::MosFrame& f : seq.frames)
+    n += static_cast<std::size_t>(std::count(f.target.begin(), f.target.end(), cnn::kTargetMoving));
+  return n;
+}
+}  // namespace
+
+// A real drive labelled by `dloam run --clean`: the run's clean/labels and poses.txt are trained
+// on, never the folder's own labels/ (which may be the annotation that is only for scoring).
+TEST(MosDataset, ARunFolderSuppliesTheLabelsAndPosesInsteadOfTheSequencesOwn) {
+  const SensorConfig sensor = sensor_preset("HDL-32E");
+  const fs::path dir = write_tiny_drive("drive_with_run", 4, sensor);
+  const cnn::MosSequence own = cnn::load_mos_sequence(dir.string(), sensor);
+  ASSERT_GT(moving_targets(own), 100u) << "the drive needs moving points for this test";
+
+  const fs::path run = temp_path("drive_run");
+  fs::remove_all(run);
+  fs::create_directories(run / "clean" / "labels");
+  std::vector<Pose> run_poses;
+  for (int k = 0; k < 4; ++k) {
+    const std::string scan = io::scan_name(static_cast<std::size_t>(k));
+    const PointCloud cloud = io::read_kitti_bin((dir / "velodyne" / (scan + ".bin")).string());
+    io::write_labels((run / "clean" / "labels" / (scan + ".label")).string(),
+                     std::vector<Label>(cloud.size(), semantic::kStatic));
+    run_poses.push_back(own.frames[static_cast<std::size_t>(k)].pose *
+                        exp_se3((Vec6() << 0, 0, 0, 0.5, 0, 0).finished()));
+  }
+  io::write_kitti_poses((run / "poses.txt").string(), run_poses);
+
+  cnn::MosSource source{dir.string(), run.string(), 2.0, {}};
+  const cnn::MosSequence relabelled = cnn::load_mos_sequence(source, sensor);
+  ASSERT_EQ(relabelled.frames.size(), 4u);
+  EXPECT_EQ(moving_targets(relabelled), 0u);
+  EXPECT_EQ(relabelled.weight, 2.0);
+  EXPECT_NEAR((relabelled.frames[2].pose.translation() - run_poses[2].translation()).norm(), 0.0, 1e-6);
+
+  // A missing label file, and poses of another drive, are named.
+  fs::remove(run / "clean" / "labels" / (io::scan_name(3) + ".label"));
+  try {
+    (void)cnn::load_mos_sequence(source, sensor);
+    ADD_FAILURE() << "a missing clean label file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("000003.label"), std::string::npos) << e.what();
+  }
+  run_poses.pop_back();
+  io::write_kitti_poses((run / "poses.txt").string(), run_poses);
+  try {
+    (void)cnn::load_mos_sequence(source, sensor);
+    ADD_FAILURE() << "a poses.txt of 3 poses for 4 scans was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("poses.txt"), std::string::npos) << e.what();
+  }
+}
+
+// A source of weight w is drawn w times per epoch: the epoch's steps scale with it.
+TEST(MosTrainer, ASourcesWeightScalesItsDrawsPerEpoch) {
+  const SensorConfig sensor = sensor_preset("HDL-32E");
+  const fs::path dir = write_tiny_drive("drive_weighted", 6, sensor);
+  cnn::MosSequence seq = cnn::load_mos_sequence(dir.string(), sensor);
+  cnn::TrainOptions o;
+  o.m = 1;
+  o.epochs = 1;
+  o.batch = 1;
+  o.crop_cols = 128;
+  o.val_fraction = 0.0;
+  o.threads = 1;
+  o.out = temp_path("weighted.pt");
+  // The steps of every epoch of a training with weight w.
+  auto steps_with_weight = [&](double w, int epochs) {
+    seq.weight = w;
+    o.epochs = epochs;
+    std::vector<std::size_t> steps(static_cast<std::size_t>(epochs), 0);
+    cnn::TrainCallbacks cb;
+    cb.on_step = [&](int epoch, std::size_t, std::size_t n, double) {
+      steps[static_cast<std::size_t>(epoch - 1)] = n;
+    };
+    (void)cnn::train_mos_net({seq}, sensor, o, cb);
+    return steps;
+  };
+  EXPECT_EQ(steps_with_weight(1.0, 1), std::vector<std::size_t>{6});
+  EXPECT_EQ(steps_with_weight(3.0, 1), std::vector<std::size_t>{18});
+  // Half the frames on average, a different draw each epoch.
+  const std::vector<std::size_t> half = steps_with_weight(0.5, 16);
+  const double mean = static_cast<double>(std::accumulate(half.begin(), half.end(), std::size_t{0})) / 16.0;
+  EXPECT_GT(mean, 2.0);
+  EXPECT_LT(mean, 4.0);
+  EXPECT_GT(*std::max_element(half.begin(), half.end()), *std::min_element(half.begin(), half.end()));
+  // Another range-image size than the network's is refused.
+  seq.weight = 1.0;
+  EXPECT_THROW((void)cnn::train_mos_net({seq}, sensor_preset("VLP-16"), o), std::invalid_argument);
+}
+
+// Folding the batch norms into the convolutions for inference gives the same logits.
+TEST(MosNet, FoldingTheBatchNormsForInferenceKeepsTheOutput) {
+  torch::manual_seed(5);
+  cnn::MosNet net(cnn::MosNetOptions{2, 8});
+  {
+    torch::NoGradGuard no_grad;  // running statistics and affine parameters far from the defaults
+    for (const auto& module : net->modules(false))
+      if (auto* c = dynamic_cast<cnn::ConvBnImpl*>(module.get())) {
+        c->bn->running_mean.uniform_(-0.5, 0.5);
+        c->bn->running_var.uniform_(0.2, 3.0);
+        c->bn->weight.uniform_(0.5, 1.5);
+        c->bn->bias.uniform_(-0.3, 0.3);
+      }
+  }
+  net->eval();
+  torch::NoGradGuard no_grad;
+  const torch::Tensor x = torch::rand({1, 7, 64, 512});
+  const torch::Tensor before = net->forward(x);
+  net->prepare_for_inference();
+  const torch::Tensor after = net->forward(x.contiguous(torch::MemoryFormat::ChannelsLast));
+  EXPECT_LT((after - before).abs().max().item<float>(), 1e-3f * before.abs().max().item<float>() + 1e-4f);
+  EXPECT_GT(before.abs().max().item<float>(), 0.1f);
+  net->train();
+  EXPECT_THROW((void)net->forward(x), std::logic_error);
+}
+
+// The network on overlapping column parts in parallel gives the full pass's logits: the overlap
+// covers the receptive field, and a change beyond it does not reach a logit.
+TEST(MosNet, AForwardPassInPartsEqualsTheFullPass) {
+  torch::manual_seed(7);
+  cnn::MosNet net(cnn::MosNetOptions{2, 8});
+  net->prepare_for_inference();
+  torch::NoGradGuard no_grad;
+  for (const int cols : {2048, 1800, 1024}) {
+    const torch::Tensor x = torch::rand({1, 7, 64, cols});
+    const torch::Tensor full = cnn::forward_padded(net, x);
+    for (const int parts : {2, 3}) {
+      const torch::Tensor split = cnn::forward_in_parts(net, x, parts);
+      ASSERT_EQ(split.sizes(), full.sizes());
+      EXPECT_LT((split - full).abs().max().item<float>(), 1e-4f) << cols << " columns, " << parts << " parts";
+    }
+  }
+  // The receptive field: a change of column 1000 moves logits within the overlap of it, not beyond.
+  const torch::Tensor x = torch::rand({1, 7, 64, 2048});
+  torch::Tensor y = x.clone();
+  y.select(3, 1000).add_(5.0);
+  const torch::Tensor diff =
+      (cnn::forward_padded(net, y) - cnn::forward_padded(net, x)).abs().amax({0, 1, 2});
+  EXPECT_GT(diff[1000].item<float>(), 1e-3f);
+  EXPECT_LT(diff.slice(0, 0, 1000 - cnn::kPartOverlapCols).max().item<float>(), 1e-6f);
+  EXPECT_LT(diff.slice(0, 1000 + cnn::kPartOverlapCols + 1).max().item<float>(), 1e-6f);
 }

@@ -4,6 +4,7 @@
 // (also to MODEL.csv beside the model), keeps the best epoch.
 #include <fmt/core.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "config_args.hpp"
 #include "dloam/cnn/trainer.hpp"
 #include "dloam/io/config_yaml.hpp"
+#include "dloam/io/data_dir.hpp"
 #include "progress.hpp"
 
 namespace dloam::app {
@@ -26,10 +28,23 @@ void run_train(const TrainArgs& a) {
   const PipelineConfig cfg = io::config_from(a.config.preset, a.config.config_path);
   std::vector<cnn::MosSequence> data;
   std::size_t frames = 0;
-  for (const std::string& dir : a.sequences) {
-    Progress bar("load " + dir, 1);
-    data.push_back(cnn::load_mos_sequence(dir, cfg.sensor, [&](std::size_t done, std::size_t total) {
-      if (done == 1) bar = Progress("load " + dir, total);
+  std::vector<cnn::MosSource> sources;
+  for (const std::string& spec : a.sequences) {
+    sources.push_back(cnn::parse_mos_source(spec));
+    for (const std::string& path : {sources.back().dir, sources.back().run_dir})
+      if (!path.empty() && !std::filesystem::exists(path))
+        throw InputError("training source '" + spec + "': " + path + " does not exist");
+  }
+  for (const cnn::MosSource& source : sources) {
+    const std::string what =
+        source.run_dir.empty() ? source.dir : source.dir + " (labels of " + source.run_dir + "/clean)";
+    Progress bar("load " + what, 1);
+    const SensorConfig sensor =
+        source.config.empty()
+            ? cfg.sensor
+            : io::config_from(a.config.preset, io::resolve_config_file(source.config)).sensor;
+    data.push_back(cnn::load_mos_sequence(source, sensor, [&](std::size_t done, std::size_t total) {
+      if (done == 1) bar = Progress("load " + what, total);
       bar.update(done);
     }));
     frames += data.back().frames.size();
@@ -60,14 +75,21 @@ void register_train(CLI::App& app) {
   auto args = std::make_shared<TrainArgs>();
   auto* cmd = app.add_subcommand("train", "Train the moving-object CNN on labelled sequences");
   cmd->footer(
-      "Input: SemanticKITTI-layout folders with velodyne/, labels/, poses.txt (+ calib.txt).\n"
-      "The last --val-fraction of every sequence is held out for validation.\n"
+      "Each source is DIR[,run=RUN_DIR][,weight=W]:\n"
+      "  DIR       a SemanticKITTI-layout folder with velodyne/, labels/, poses.txt (+ calib.txt),\n"
+      "            e.g. a simulated drive;\n"
+      "  run=      labels from RUN_DIR/clean/labels and poses from RUN_DIR/poses.txt instead, i.e. a\n"
+      "            real drive labelled by `dloam run DIR --clean --out RUN_DIR`, no annotation needed;\n"
+      "  weight=   each of its scans is drawn W times per epoch on average (default 1);\n"
+      "  config=   the YAML config (file or shipped name) of this drive's sensor, over --preset\n"
+      "            (default: --config); every source must give range images of one size.\n"
+      "The last --val-fraction of every sequence is held out for validation (scored with the weights).\n"
       "Examples:\n"
       "  scripts/make_training_data.sh train/sim\n"
-      "  dloam train train/sim/* --out models/mos_m6.pt --m 6 --epochs 8 --seed 1 (models/MODEL.md)");
-  cmd->add_option("sequences", args->sequences, "training sequence folders")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+      "  dloam train train/sim/* --out models/mos_m6.pt --m 6 --epochs 8 --seed 1 (models/MODEL.md)\n"
+      "  dloam train train/sim/* DRIVE,run=out/drive,weight=3,config=my-sensor.yaml --out my.pt");
+  cmd->add_option("sources", args->sequences, "training sources: DIR[,run=RUN_DIR][,weight=W][,config=FILE]")
+      ->required();
   cmd->add_option("--out,-o", args->options.out, "model file (best epoch)")->required();
   ConfigHelp config_help;
   config_help.config = "YAML config or shipped name (its sensor model)";

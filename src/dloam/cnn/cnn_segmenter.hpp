@@ -11,8 +11,8 @@
 namespace dloam::cnn {
 
 /// Loads a model written by `dloam train` (throws InputError naming the file when it is missing or
-/// not a model, or when `expected_m` >= 0 differs from the model's m). `threads`: LibTorch intra-op
-/// threads, set once per process (the first call wins).
+/// not a model, or when `expected_m` >= 0 differs from the model's m). `threads`: column parts of
+/// the range image run in parallel (forward_in_parts); LibTorch itself runs on one thread.
 std::unique_ptr<MovingSegmenter> load_cnn_segmenter(const std::string& model_path, int threads,
                                                     int expected_m = -1);
 

@@ -8,7 +8,8 @@ namespace dloam::cnn {
 
 namespace nn = torch::nn;
 
-ConvBnImpl::ConvBnImpl(int in, int out, int kernel, int dilation, int stride_w) {
+ConvBnImpl::ConvBnImpl(int in, int out, int kernel, int dilation, int stride_w)
+    : pad_(dilation * (kernel / 2)), dilation_(dilation), stride_w_(stride_w) {
   const int pad = dilation * (kernel / 2);
   conv = register_module("conv", nn::Conv2d(nn::Conv2dOptions(in, out, kernel)
                                                 .padding(pad)
@@ -19,7 +20,20 @@ ConvBnImpl::ConvBnImpl(int in, int out, int kernel, int dilation, int stride_w) 
 }
 
 torch::Tensor ConvBnImpl::forward(const torch::Tensor& x) {
+  if (folded_weight_.defined()) {
+    if (is_training()) throw std::logic_error("ConvBn: batch norm folded for inference, cannot train");
+    torch::Tensor y =
+        torch::conv2d(x, folded_weight_, folded_bias_, {1, stride_w_}, {pad_, pad_}, {dilation_, dilation_});
+    return torch::leaky_relu_(y, 0.01);
+  }
   return torch::leaky_relu(bn->forward(conv->forward(x)), 0.01);
+}
+
+void ConvBnImpl::fold_batch_norm(torch::MemoryFormat format) {
+  torch::NoGradGuard no_grad;
+  const torch::Tensor scale = bn->weight / torch::sqrt(bn->running_var + bn->options.eps());
+  folded_weight_ = (conv->weight * scale.view({-1, 1, 1, 1})).contiguous(format);
+  folded_bias_ = (bn->bias - bn->running_mean * scale).contiguous();
 }
 
 ResBlockImpl::ResBlockImpl(int in, int out) {
@@ -67,6 +81,15 @@ torch::Tensor MosNetImpl::forward(const torch::Tensor& x) {
   d = dec2->forward(d, s1);
   d = dec1->forward(d, s0);
   return head->forward(d);
+}
+
+void MosNetImpl::prepare_for_inference(torch::MemoryFormat format) {
+  eval();
+  for (const auto& module : modules(/*include_self=*/false))
+    if (auto* c = dynamic_cast<ConvBnImpl*>(module.get())) c->fold_batch_norm(format);
+  torch::NoGradGuard no_grad;
+  for (auto& p : head->parameters())
+    if (p.dim() == 4) p.set_data(p.contiguous(format));
 }
 
 std::int64_t parameter_count(MosNet& net) {

@@ -25,8 +25,16 @@ struct MosNetOptions {
 struct ConvBnImpl : torch::nn::Module {
   ConvBnImpl(int in, int out, int kernel, int dilation = 1, int stride_w = 1);
   torch::Tensor forward(const torch::Tensor& x);
+  /// Inference only: folds the batch norm's running statistics into one convolution with a bias
+  /// (w' = w * gamma / sqrt(var + eps), b' = beta - mean * gamma / sqrt(var + eps)), saving a pass
+  /// over the activations. The saved weights are untouched; training after this is an error.
+  void fold_batch_norm(torch::MemoryFormat format);
   torch::nn::Conv2d conv{nullptr};
   torch::nn::BatchNorm2d bn{nullptr};
+
+ private:
+  torch::Tensor folded_weight_, folded_bias_;
+  std::int64_t pad_ = 0, dilation_ = 1, stride_w_ = 1;
 };
 TORCH_MODULE(ConvBn);
 
@@ -55,6 +63,9 @@ struct MosNetImpl : torch::nn::Module {
   ResBlock enc1{nullptr}, enc2{nullptr}, enc3{nullptr}, mid{nullptr};
   UpBlock dec3{nullptr}, dec2{nullptr}, dec1{nullptr};
   torch::nn::ConvTranspose2d head{nullptr};
+  /// Inference only: eval mode, every ConvBn's batch norm folded into its convolution, weights in
+  /// `format` (channels-last takes oneDNN's direct convolutions on the CPU).
+  void prepare_for_inference(torch::MemoryFormat format = torch::MemoryFormat::ChannelsLast);
 };
 TORCH_MODULE(MosNet);
 

@@ -13,10 +13,11 @@ namespace dloam::cnn {
 
 namespace {
 
-/// Pixel confusion of the moving class (labelled pixels only).
+/// Pixel confusion of the moving class (labelled pixels only), each pixel counted with its
+/// sequence's weight.
 struct PixelScore {
-  std::size_t tp = 0, fp = 0, fn = 0;
-  [[nodiscard]] double iou() const { return tp + fp + fn ? static_cast<double>(tp) / (tp + fp + fn) : 0.0; }
+  double tp = 0, fp = 0, fn = 0;
+  [[nodiscard]] double iou() const { return tp + fp + fn > 0 ? tp / (tp + fp + fn) : 0.0; }
 };
 
 struct FrameRef {
@@ -26,6 +27,26 @@ struct FrameRef {
 struct Split {
   std::vector<FrameRef> train, val;
 };
+
+/// One epoch's training draws: `shuffled` with every frame of a sequence of weight w drawn
+/// floor(w) times and once more with probability w - floor(w), shuffled again. With all weights
+/// 1 that is `shuffled` itself (and no random number is drawn).
+std::vector<FrameRef> epoch_draws(const std::vector<MosSequence>& data, const std::vector<FrameRef>& shuffled,
+                                  std::mt19937& rng) {
+  const bool unweighted =
+      std::all_of(data.begin(), data.end(), [](const MosSequence& q) { return q.weight == 1.0; });
+  if (unweighted) return shuffled;
+  std::vector<FrameRef> order;
+  for (const FrameRef& r : shuffled) {
+    const double w = data[r.seq].weight;
+    const double whole = std::floor(w);
+    auto n = static_cast<std::size_t>(whole);
+    if (w > whole && std::uniform_real_distribution<double>(0.0, 1.0)(rng) < w - whole) ++n;
+    order.insert(order.end(), n, r);
+  }
+  std::shuffle(order.begin(), order.end(), rng);
+  return order;
+}
 
 Split split_frames(const std::vector<MosSequence>& data, const TrainOptions& o) {
   Split s;
@@ -63,22 +84,27 @@ torch::Tensor mos_loss(const torch::Tensor& logits, const torch::Tensor& target,
 }
 
 PixelScore score(MosNet& net, const std::vector<MosSequence>& data, const std::vector<FrameRef>& frames,
-                 int m, const SensorConfig& sensor) {
+                 int m) {
   torch::NoGradGuard no_grad;
   net->eval();
   PixelScore s;
   for (const FrameRef& r : frames) {
     const MosFrame& f = data[r.seq].frames[r.frame];
-    const RangeImageBag bag = sample_bag(data[r.seq], r.frame, m, sensor, {}, nullptr);
+    const RangeImageBag bag = sample_bag(data[r.seq], r.frame, m, {}, nullptr);
     const torch::Tensor pred = (forward_padded(net, bag_tensor(bag)) > 0.0).contiguous();
     const bool* p = pred.data_ptr<bool>();
+    std::size_t tp = 0, fp = 0, fn = 0;
     for (std::size_t px = 0; px < f.target.size(); ++px) {
       if (f.target[px] == kTargetIgnore) continue;
       const bool gt = f.target[px] == kTargetMoving;
-      s.tp += (p[px] && gt);
-      s.fp += (p[px] && !gt);
-      s.fn += (!p[px] && gt);
+      tp += (p[px] && gt);
+      fp += (p[px] && !gt);
+      fn += (!p[px] && gt);
     }
+    const double w = data[r.seq].weight;
+    s.tp += w * static_cast<double>(tp);
+    s.fp += w * static_cast<double>(fp);
+    s.fn += w * static_cast<double>(fn);
   }
   net->train();
   return s;
@@ -95,12 +121,21 @@ std::vector<EpochReport> train_mos_net(const std::vector<MosSequence>& data, con
   if (split.train.empty()) throw std::invalid_argument("train: no training frames");
   if (o.crop_cols % 16 != 0) throw std::invalid_argument("train: crop_cols must be a multiple of 16");
 
-  // Class weight: sqrt of the static / moving pixel ratio of the training split.
+  for (const MosSequence& q : data) {
+    if (!(q.weight > 0.0) || !std::isfinite(q.weight))
+      throw std::invalid_argument("train: the weight of " + q.dir + " must be positive");
+    if (q.sensor.N_scan != sensor.N_scan || q.sensor.Horizon_SCAN != sensor.Horizon_SCAN)
+      throw std::invalid_argument("train: " + q.dir + " has " + std::to_string(q.sensor.N_scan) + " x " +
+                                  std::to_string(q.sensor.Horizon_SCAN) + " range images, the network " +
+                                  std::to_string(sensor.N_scan) + " x " +
+                                  std::to_string(sensor.Horizon_SCAN));
+  }
+  // Class weight: sqrt of the static / moving pixel ratio of the training split, as drawn.
   double n_moving = 0.0, n_static = 0.0;
   for (const FrameRef& r : split.train)
     for (std::uint8_t t : data[r.seq].frames[r.frame].target) {
-      n_moving += t == kTargetMoving;
-      n_static += t == kTargetStatic;
+      n_moving += data[r.seq].weight * (t == kTargetMoving);
+      n_static += data[r.seq].weight * (t == kTargetStatic);
     }
   if (n_moving == 0.0) throw std::invalid_argument("train: no moving point in the training frames");
   const double pos_weight = std::sqrt(n_static / n_moving);
@@ -113,20 +148,21 @@ std::vector<EpochReport> train_mos_net(const std::vector<MosSequence>& data, con
   std::ofstream log(o.out + ".csv");
   log << "epoch,train_loss,val_iou,val_precision,val_recall,seconds\n";
   double best_iou = -1.0;
-  const std::size_t steps = split.train.size() / static_cast<std::size_t>(o.batch);
-  std::vector<FrameRef> order = split.train;
+  std::vector<FrameRef> train = split.train;
   for (int epoch = 1; epoch <= o.epochs; ++epoch) {
     const auto t0 = std::chrono::steady_clock::now();
     const double lr = o.learning_rate * (0.05 + 0.95 * 0.5 * (1.0 + std::cos(M_PI * (epoch - 1) / o.epochs)));
     for (auto& g : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
-    std::shuffle(order.begin(), order.end(), rng);
+    std::shuffle(train.begin(), train.end(), rng);
+    const std::vector<FrameRef> order = epoch_draws(data, train, rng);
+    const std::size_t steps = order.size() / static_cast<std::size_t>(o.batch);
     double loss_sum = 0.0;
     for (std::size_t step = 0; step < steps; ++step) {
       std::vector<torch::Tensor> xs, ys;
       for (int b = 0; b < o.batch; ++b) {
         const FrameRef& r = order[step * static_cast<std::size_t>(o.batch) + static_cast<std::size_t>(b)];
         const MosFrame& f = data[r.seq].frames[r.frame];
-        const RangeImageBag bag = sample_bag(data[r.seq], r.frame, o.m, sensor, o.pose_noise, &rng);
+        const RangeImageBag bag = sample_bag(data[r.seq], r.frame, o.m, o.pose_noise, &rng);
         const int c0 = std::uniform_int_distribution<int>(0, std::max(0, f.image.cols - o.crop_cols))(rng);
         const int cw = std::min(o.crop_cols, f.image.cols);
         torch::Tensor x = bag_tensor(bag).slice(3, c0, c0 + cw);
@@ -151,7 +187,7 @@ std::vector<EpochReport> train_mos_net(const std::vector<MosSequence>& data, con
     rep.epoch = epoch;
     rep.train_loss = steps ? loss_sum / static_cast<double>(steps) : 0.0;
     if (!split.val.empty()) {
-      const PixelScore s = score(net, data, split.val, o.m, sensor);
+      const PixelScore s = score(net, data, split.val, o.m);
       rep.val_iou = s.iou();
       rep.val_precision = s.tp + s.fp ? static_cast<double>(s.tp) / (s.tp + s.fp) : 0.0;
       rep.val_recall = s.tp + s.fn ? static_cast<double>(s.tp) / (s.tp + s.fn) : 0.0;

@@ -42,7 +42,8 @@ struct TrainCallbacks {
   std::function<void(const EpochReport&)> on_epoch;
 };
 
-/// Trains on the prepared sequences; returns the per-epoch reports. Throws std::invalid_argument
+/// Trains on the prepared sequences (each with its own sensor model; all of `sensor`'s range-image
+/// size, which the model records); returns the per-epoch reports. Throws std::invalid_argument
 /// for unusable options (no training frames, no moving pixel in the training split, ...).
 std::vector<EpochReport> train_mos_net(const std::vector<MosSequence>& data, const SensorConfig& sensor,
                                        const TrainOptions& options, const TrainCallbacks& callbacks = {});

@@ -62,8 +62,8 @@ struct DetectionConfig {
   int m = 6;                   ///< number of recent speed/residual images in the range-image bag
   std::string model_path;      ///< written by `dloam train`; empty: models/mos_m<m>.pt shipped with dloam
   double cnn_threshold = 0.5;  ///< moving probability threshold
-  /// LibTorch threads of the CNN's forward pass. Its OpenMP pool spins: when other programs load the
-  /// cores, 1 is faster than 2 (measured: docs/results.md, detector parameters).
+  /// The CNN's forward pass runs on this many column parts of the range image in parallel, each on
+  /// one LibTorch thread (cnn/torch_util.hpp, forward_in_parts): one join per scan, no spinning pool.
   int threads = 2;
 };
 

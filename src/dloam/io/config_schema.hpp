@@ -143,7 +143,8 @@ void visit(DetectionConfig& c, V& v) {
   v("model_path", c.model_path,
     "CNN: model written by `dloam train` (empty: models/mos_m<m>.pt shipped with dloam)", Choices{});
   v("cnn_threshold", c.cnn_threshold, "CNN: moving-probability threshold", within(0, 1));
-  v("threads", c.threads, "CNN inference threads (LibTorch; on a busy machine use 1: its OpenMP pool spins)",
+  v("threads", c.threads,
+    "CNN inference: column parts of the range image run in parallel (one LibTorch thread each)",
     within(1, 256));
 }
 
