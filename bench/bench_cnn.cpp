@@ -1,6 +1,7 @@
 // Cost of the CNN detector's pieces on real HDL-64E scans (kitti-raw-0005, scans 10-16): the range
-// image bag of scan 16 with m = 6 speed images (eq. 13 against scans 10-15), the MosNet forward
-// pass (LibTorch, CPU; DLOAM_TORCH_THREADS threads, default 2), and the object-level decision.
+// image bag of scan 16 with the default m speed images (eq. 13 against the scans before it), the
+// MosNet forward pass of the shipped model (LibTorch, CPU; in DLOAM_TORCH_THREADS column parts in
+// parallel, default detection.threads), and the object-level decision.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -37,8 +38,9 @@ Data& data() {
     x.cfg.sensor.vertical_angle_correction_deg = 0.22;
     const io::Sequence seq = io::open_sequence(DLOAM_KITTI_0005);
     const auto poses = seq.lidar_poses();
-    x.history = std::make_unique<ScanHistory>(6, x.cfg.sensor);
-    for (std::size_t k = 10; k <= 16; ++k) {
+    const int m = x.cfg.detection.m;
+    x.history = std::make_unique<ScanHistory>(m, x.cfg.sensor);
+    for (std::size_t k = 16 - static_cast<std::size_t>(m); k <= 16; ++k) {
       const PointCloud c = seq.read_scan(k);
       std::vector<Vec3> pts = c.xyz;
       correct_vertical_angle(pts, x.cfg.sensor.vertical_angle_correction_deg);
@@ -53,14 +55,14 @@ Data& data() {
       }
     }
     // Timing does not depend on the weights: the shipped model when present, else a fresh one.
-    std::string model = std::string(DLOAM_SOURCE_DIR) + "/models/mos_m6.pt";
+    std::string model = std::string(DLOAM_SOURCE_DIR) + "/models/mos_m" + std::to_string(m) + ".pt";
     if (!std::filesystem::exists(model)) {
-      model = (std::filesystem::temp_directory_path() / "bench_cnn_m6.pt").string();
-      cnn::MosNet fresh(cnn::MosNetOptions{6, 8});
+      model = (std::filesystem::temp_directory_path() / ("bench_cnn_m" + std::to_string(m) + ".pt")).string();
+      cnn::MosNet fresh(cnn::MosNetOptions{m, 8});
       cnn::save_mos_net(fresh, model);
     }
     const char* threads = std::getenv("DLOAM_TORCH_THREADS");
-    x.net = cnn::load_cnn_segmenter(model, threads ? std::atoi(threads) : 2, 6);
+    x.net = cnn::load_cnn_segmenter(model, threads ? std::atoi(threads) : x.cfg.detection.threads, m);
     return x;
   }();
   return d;

@@ -59,7 +59,7 @@ struct DetectionConfig {
   /// loses the object.
   double alpha_tracked = 0.92;
   // CNN (III.D.3.b)
-  int m = 6;                   ///< number of recent speed/residual images in the range-image bag
+  int m = 3;                   ///< number of recent speed/residual images in the range-image bag
   std::string model_path;      ///< written by `dloam train`; empty: models/mos_m<m>.pt shipped with dloam
   double cnn_threshold = 0.5;  ///< moving probability threshold
   /// The CNN's forward pass runs on this many column parts of the range image in parallel, each on
