@@ -30,6 +30,32 @@ std::string temp_path(const std::string& name) {
   return (dir / name).string();
 }
 
+/// A tiny simulated drive in the SemanticKITTI layout (its own labels and poses).
+fs::path write_tiny_drive(const std::string& name, int frames, const SensorConfig& sensor) {
+  const fs::path dir = temp_path(name);
+  fs::remove_all(dir);
+  fs::create_directories(dir / "velodyne");
+  fs::create_directories(dir / "labels");
+  sim::Simulator simulator = test::make_simulator(sim::ScenarioKind::Urban, frames, 4, sensor, 3.0);
+  std::vector<Pose> poses;
+  for (int k = 0; k < frames; ++k) {
+    const sim::SimFrame f = simulator.frame(k);
+    const std::string scan = io::scan_name(static_cast<std::size_t>(k));
+    io::write_kitti_bin((dir / "velodyne" / (scan + ".bin")).string(), f.scan.cloud);
+    io::write_labels((dir / "labels" / (scan + ".label")).string(), f.scan.labels);
+    poses.push_back(f.pose);
+  }
+  io::write_kitti_poses((dir / "poses.txt").string(), poses);
+  return dir;
+}
+
+std::size_t moving_targets(const cnn::MosSequence& seq) {
+  std::size_t n = 0;
+  for (const cnn::MosFrame& f : seq.frames)
+    n += static_cast<std::size_t>(std::count(f.target.begin(), f.target.end(), cnn::kTargetMoving));
+  return n;
+}
+
 }  // namespace
 
 TEST(MosNet, OutputHasOneLogitPerPixelForAnyImageSize) {
@@ -142,7 +168,8 @@ TEST(CnnPipeline, ShippedModelSegmentsMovingObjectsOfAnUnseenSimulatedDrive) {
   const double iou = mos.points.iou();
   std::printf(
       "CNN on simulated urban seed 2, scans %d-79: IoU %.1f %% (P %.1f %%, R %.1f %%), objects %.1f %%\n",
-      51 + cfg.detection.m, 100 * iou, 100 * mos.points.precision(), 100 * mos.points.recall(), 100 * mos.objects.iou());
+      51 + cfg.detection.m, 100 * iou, 100 * mos.points.precision(), 100 * mos.points.recall(),
+      100 * mos.objects.iou());
   ASSERT_GT(mos.points.tp + mos.points.fn, 1000u);
   EXPECT_GT(iou, 0.75);
 }
@@ -168,23 +195,8 @@ TEST(CnnPipeline, FirstScansOfAHighwayDriveDoNotLockOntoTraffic) {
 // `dloam train`'s loop on a tiny simulated sequence written to disk in the SemanticKITTI layout:
 // data preparation, every m (including 0 and 1), validation and checkpoints.
 TEST(MosTrainer, TrainsAndCheckpointsOnATinySimulatedSequence) {
-  const fs::path dir = temp_path("tiny_seq");
-  fs::remove_all(dir);
-  fs::create_directories(dir / "velodyne");
-  fs::create_directories(dir / "labels");
-  constexpr int kFrames = 8;
-  sim::Simulator simulator =
-      test::make_simulator(sim::ScenarioKind::Urban, kFrames, 4, sensor_preset("HDL-32E"), 3.0);
-  const SensorConfig& sensor = simulator.options().sensor;
-  std::vector<Pose> poses;
-  for (int k = 0; k < kFrames; ++k) {
-    const sim::SimFrame f = simulator.frame(k);
-    const std::string name = io::scan_name(static_cast<std::size_t>(k));
-    io::write_kitti_bin((dir / "velodyne" / (name + ".bin")).string(), f.scan.cloud);
-    io::write_labels((dir / "labels" / (name + ".label")).string(), f.scan.labels);
-    poses.push_back(f.pose);
-  }
-  io::write_kitti_poses((dir / "poses.txt").string(), poses);
+  const SensorConfig sensor = sensor_preset("HDL-32E");
+  const fs::path dir = write_tiny_drive("tiny_seq", 8, sensor);
   const cnn::MosSequence seq = cnn::load_mos_sequence(dir.string(), sensor);
   ASSERT_EQ(seq.frames.size(), 8u);
   for (int m : {0, 1, 3}) {
@@ -226,34 +238,6 @@ TEST(MosDataset, ASourceSpecNamesItsRunFolderWeightAndSensorConfig) {
     }
   }
 }
-
-namespace {
-/// A tiny simulated drive in the SemanticKITTI layout (its own labels and poses).
-fs::path write_tiny_drive(const std::string& name, int frames, const SensorConfig& sensor) {
-  const fs::path dir = temp_path(name);
-  fs::remove_all(dir);
-  fs::create_directories(dir / "velodyne");
-  fs::create_directories(dir / "labels");
-  sim::Simulator simulator = test::make_simulator(sim::ScenarioKind::Urban, frames, 4, sensor, 3.0);
-  std::vector<Pose> poses;
-  for (int k = 0; k < frames; ++k) {
-    const sim::SimFrame f = simulator.frame(k);
-    const std::string scan = io::scan_name(static_cast<std::size_t>(k));
-    io::write_kitti_bin((dir / "velodyne" / (scan + ".bin")).string(), f.scan.cloud);
-    io::write_labels((dir / "labels" / (scan + ".label")).string(), f.scan.labels);
-    poses.push_back(f.pose);
-  }
-  io::write_kitti_poses((dir / "poses.txt").string(), poses);
-  return dir;
-}
-
-std::size_t moving_targets(const cnn::MosSequence& seq) {
-  std::size_t n = 0;
-  for (const cnn::MosFrame& f : seq.frames)
-    n += static_cast<std::size_t>(std::count(f.target.begin(), f.target.end(), cnn::kTargetMoving));
-  return n;
-}
-}  // namespace
 
 // A real drive labelled by `dloam run --clean`: the run's clean/labels and poses.txt are trained
 // on, never the folder's own labels/ (which may be the annotation that is only for scoring).

@@ -86,8 +86,9 @@ void register_train(CLI::App& app) {
       "The last --val-fraction of every sequence is held out for validation (scored with the weights).\n"
       "Examples:\n"
       "  scripts/make_training_data.sh train/sim\n"
-      "  dloam train train/sim/* --out models/mos_m6.pt --m 6 --epochs 8 --seed 1 (models/MODEL.md)\n"
-      "  dloam train train/sim/* DRIVE,run=out/drive,weight=3,config=my-sensor.yaml --out my.pt");
+      "  dloam train train/sim/* --out models/mos_m6.pt --m 6 --epochs 8 --seed 1\n"
+      "  dloam train train/sim/* DRIVE,run=out/drive,weight=3,config=my-sensor.yaml --out my.pt\n"
+      "The shipped model's recipe: models/MODEL.md (scripts/train_models.sh main).");
   cmd->add_option("sources", args->sequences, "training sources: DIR[,run=RUN_DIR][,weight=W][,config=FILE]")
       ->required();
   cmd->add_option("--out,-o", args->options.out, "model file (best epoch)")->required();
