@@ -10,9 +10,8 @@ namespace nn = torch::nn;
 
 ConvBnImpl::ConvBnImpl(int in, int out, int kernel, int dilation, int stride_w)
     : pad_(dilation * (kernel / 2)), dilation_(dilation), stride_w_(stride_w) {
-  const int pad = dilation * (kernel / 2);
   conv = register_module("conv", nn::Conv2d(nn::Conv2dOptions(in, out, kernel)
-                                                .padding(pad)
+                                                .padding(pad_)
                                                 .dilation(dilation)
                                                 .stride({1, stride_w})
                                                 .bias(false)));

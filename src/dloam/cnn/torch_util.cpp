@@ -35,11 +35,11 @@ torch::Tensor forward_padded(MosNet& net, const torch::Tensor& x) {
 
 torch::Tensor forward_in_parts(MosNet& net, const torch::Tensor& x, int parts) {
   const auto H = x.size(2), W = x.size(3);
-  const torch::Tensor in = pad_to_network(x);
-  const auto Wp = in.size(3);
+  const std::int64_t Wp = padded_size(static_cast<int>(W), 16);
   // Cuts on the 16-column grid, each part at least two overlaps wide.
   const auto n = std::clamp<std::int64_t>(Wp / (4 * kPartOverlapCols), 1, std::max(1, parts));
   if (n <= 1) return forward_padded(net, x);
+  const torch::Tensor in = pad_to_network(x);
   std::vector<std::int64_t> cut(static_cast<std::size_t>(n) + 1, 0);
   for (std::int64_t k = 1; k < n; ++k) cut[static_cast<std::size_t>(k)] = Wp * k / n / 16 * 16;
   cut.back() = Wp;
