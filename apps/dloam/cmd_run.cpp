@@ -85,6 +85,9 @@ void print_tracking(const std::vector<ScanResult>& results) {
   if (t["reinitialized_steps"].get<std::size_t>() > 0)
     fmt::print("steps re-initialised by a search (the prediction did not fit): {}\n",
                t["reinitialized_steps"].get<std::size_t>());
+  if (t["detection_suspended_scans"].get<std::size_t>() > 0)
+    fmt::print("scans without detection (the step fitted too poorly to tell moving objects): {}\n",
+               t["detection_suspended_scans"].get<std::size_t>());
   if (t["lost_steps"].get<std::size_t>() > 0)
     fmt::print("steps that could not be estimated (listed in metrics.json): {}\n",
                t["lost_steps"].get<std::size_t>());

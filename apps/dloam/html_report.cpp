@@ -371,6 +371,8 @@ std::string tables(const Run& r) {
     table_row(html, "steps re-initialised / lost",
               fmt::format("{} / {}", count(t, "reinitialized_steps"), count(t, "lost_steps")));
     table_row(html, "gaps in the scan times", std::to_string(count(t, "gaps")));
+    table_row(html, "scans without detection (step fitted too poorly)",
+              std::to_string(count(t, "detection_suspended_scans")));
   }
   html << "</table></div>\n</section>\n";
   return html.str();

@@ -58,6 +58,12 @@ struct DetectionConfig {
   /// docs/results.md, detector parameters). A pure side view (no end of the object visible) still
   /// loses the object.
   double alpha_tracked = 0.92;
+  /// A speed matrix shows motion only relative to T_coarse: when T_coarse brings less than this
+  /// fraction of what the recent steps fitted onto the previous scan (a fast turn or a sudden stop
+  /// the prediction missed), the static scene itself would look moving, so the scan's detection is
+  /// suspended (nothing marked moving; timing.csv `detection_suspended`). The same ratio below which
+  /// a step is reported lost. 0: never suspended.
+  double min_registration_fit = 0.5;
   // CNN (III.D.3.b)
   int m = 3;                   ///< number of recent speed/residual images in the range-image bag
   std::string model_path;      ///< written by `dloam train`; empty: models/mos_m<m>.pt shipped with dloam

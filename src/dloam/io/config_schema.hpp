@@ -139,6 +139,9 @@ void visit(DetectionConfig& c, V& v) {
     Range{});
   v("alpha_tracked", c.alpha_tracked, "a tracked dynamic object stays dynamic below this static fraction",
     within(0, 1));
+  v("min_registration_fit", c.min_registration_fit,
+    "suspend the scan's detection when T_coarse fits less than this fraction of what recent steps fitted",
+    within(0, 1));
   v("m", c.m, "CNN: number of recent speed images in the range image bag", within(0, 64));
   v("model_path", c.model_path,
     "CNN: model written by `dloam train` (empty: models/mos_m<m>.pt shipped with dloam)", Choices{});

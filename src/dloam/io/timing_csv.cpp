@@ -13,7 +13,7 @@ void write_timing_csv(const std::string& path, const std::vector<ScanResult>& re
     for (auto name : kModuleNames) out << ',' << name << "_ms";
     out << ",edges,planes,mapped,keyframe,loop_closed,degenerate,dt_s,missed_scans,prior_fitness,fitness,"
            "searched,reinitialized,lost,constraint,unconstrained,matches,map_constraint,map_unconstrained,"
-           "map_matches\n";
+           "map_matches,detection_suspended\n";
     char buf[32];
     for (const auto& r : results) {
       out << r.index;
@@ -37,7 +37,7 @@ void write_timing_csv(const std::string& path, const std::vector<ScanResult>& re
         std::snprintf(buf, sizeof(buf), "%.1f", d->weakest());
         out << ',' << buf << ',' << unconstrained_names(*d) << ',' << d->matches;
       }
-      out << '\n';
+      out << ',' << r.detection_suspended << '\n';
     }
   });
 }

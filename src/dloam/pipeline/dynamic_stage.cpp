@@ -7,6 +7,7 @@
 #include "dloam/core/range_image.hpp"
 #include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
+#include "dloam/pipeline/step_fit.hpp"
 
 namespace dloam {
 
@@ -86,6 +87,18 @@ CoarseResult DynamicStage::first_pair(const std::vector<Vec3>& raw, const std::v
   return c;
 }
 
+namespace {
+/// Every cluster static, no ground rejected.
+DetectionResult no_dynamic(const SegmentationResult& seg) {
+  DetectionResult det;
+  det.cluster_dynamic.assign(static_cast<std::size_t>(seg.num_clusters) + 1, 0);
+  det.static_fraction.assign(det.cluster_dynamic.size(), -1.0);
+  det.ground_rejected.assign(seg.pixel_label.size(), 0);
+  update_pixel_mask(seg, det);
+  return det;
+}
+}  // namespace
+
 DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vector<double>& times,
                                     std::vector<Vec3> deskewed, const SegmentationResult& seg,
                                     const StepPrior& prior, const std::vector<float>& intensity) {
@@ -122,6 +135,15 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   // The speeds are range changes over dt: the thresholds (m/s) become metres over this interval.
   const DetectionConfig detection = thresholds_over(config_.detection, prior.interval.dt);
 
+  // A step the prediction and pre-registration got wrong (a fast turn, a sudden stop) makes the static
+  // scene look moving: below the fit that recent steps reached, the speed matrix measures the
+  // registration error, and the detection sits this scan out (the odometry then uses every feature).
+  if (have_previous_ && prior.previous_range && prior.min_fit > 0.0 &&
+      prior.previous_range->size() == seg.image.range.size()) {
+    const double fit = step_fit(seg, out.points, probe_pixels(seg, out.points), out.T_coarse,
+                                *prior.previous_range, config_.sensor);
+    out.suspended = fit < prior.min_fit;
+  }
   SpeedMatrix S;
   out.checked = have_previous_;
   if (have_previous_) {
@@ -132,7 +154,11 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   // This scan's range image with its final de-skew, for the next speed matrix (and the CNN's bags).
   remember_range(seg.image, out.points);
   DetectionResult det;
-  if (cnn_ && cnn_->ready()) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
+  if (out.suspended) {
+    det = no_dynamic(seg);
+    if (cnn_) cnn_->remember(previous_vertices_.range, out.T_coarse);
+  } else if (cnn_ &&
+             cnn_->ready()) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
     det = cnn_->process(seg, out.points, intensity, previous_vertices_.range, out.T_coarse, detection,
                         have_previous_ ? &S.speed : nullptr);
   } else if (have_previous_) {
@@ -140,12 +166,13 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
     // a drive's first motion must not lock onto co-moving traffic.
     det = detect_dynamic(seg, S, detection);
   } else {
-    det.cluster_dynamic.assign(static_cast<std::size_t>(seg.num_clusters) + 1, 0);
-    det.ground_rejected.assign(seg.pixel_label.size(), 0);
-    update_pixel_mask(seg, det);
+    det = no_dynamic(seg);
   }
-  if (cnn_ && !cnn_->ready()) cnn_->remember(previous_vertices_.range, out.T_coarse);
-  if (config_.detection.pseudo_static) {
+  if (!out.suspended && cnn_ && !cnn_->ready()) cnn_->remember(previous_vertices_.range, out.T_coarse);
+  // The tracker associates clusters through the speed matrix's pixels: after a suspended scan it
+  // starts again.
+  if (out.suspended) tracker_ = ObjectTracker{};
+  if (config_.detection.pseudo_static && !out.suspended) {
     TrackResult track = tracker_.update(seg, S, det, config_.detection.alpha_tracked);
     out.type1 = track.type1;
     out.type2 = track.type2;

@@ -31,6 +31,10 @@ struct StepPrior {
   MotionGate gate;                    ///< how far T_coarse may depart from the prediction
   double search_range = 4.0;          ///< m: forward translation searched when there is no prior
   double yaw_range = 0.0;             ///< rad: turns searched when there is no prior (at most pi)
+  /// The step check's target (the previous scan's ranges) and the fit T_coarse must reach on it
+  /// (step_fit.hpp) for the speed matrix to be trusted; null or 0: always trusted.
+  const std::vector<float>* previous_range = nullptr;
+  double min_fit = 0.0;
 };
 
 struct DynamicOutput {
@@ -42,6 +46,9 @@ struct DynamicOutput {
   bool coarse_valid = false;
   bool checked = false;  ///< a previous scan existed: the labels come from a speed matrix
   int num_dynamic = 0, type1 = 0, type2 = 0;
+  /// T_coarse fitted the previous scan worse than StepPrior::min_fit: the speed matrix would show the
+  /// registration error as motion, so nothing was marked moving.
+  bool suspended = false;
 };
 
 class DynamicStage {

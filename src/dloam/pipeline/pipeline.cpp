@@ -14,16 +14,13 @@
 #include "dloam/core/speed_matrix.hpp"
 #include "dloam/core/weight_compensation.hpp"
 #include "dloam/pipeline/detector_choice.hpp"
+#include "dloam/pipeline/step_fit.hpp"
 
 namespace dloam {
 
 namespace {
 /// Relative difference between a scan interval and the sweep duration below which they are equal.
 constexpr double kStampJitter = 1e-4;
-/// A probe pixel fits the previous scan when its range lies this close to the previous ranges (m).
-constexpr double kProbeInlier = 0.2;
-/// Pixels of the range image per probe pixel sampled (before keeping cluster pixels only).
-constexpr std::size_t kProbePixels = 12000;
 /// A search result replaces the prediction only when it fits this much more of the surface.
 constexpr double kSearchMargin = 0.05;
 /// Probe points registered per candidate of a step search.
@@ -110,7 +107,7 @@ ScanInterval Pipeline::interval_of(const PointCloud& cloud, ScanResult& out) {
 
 double Pipeline::consistency(const SegmentationResult& seg, const std::vector<Vec3>& points,
                              const std::vector<int>& probe, const Pose& T, double tolerance) const {
-  return static_fit(seg.image, points, probe, T, previous_range_, config_.sensor, tolerance).fraction();
+  return step_fit(seg, points, probe, T, previous_range_, config_.sensor, tolerance);
 }
 
 bool Pipeline::check_prior(StepPrior& prior, const SegmentationResult& seg, const std::vector<Vec3>& points,
@@ -202,13 +199,15 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   std::vector<int> probe;
   if (count_ > 0 && previous_range_.size() == seg.image.range.size()) {
     ScopedTimer t(out.times, Module::kStepCheck);
-    const std::size_t stride = std::max<std::size_t>(1, seg.image.range.size() / kProbePixels);
-    probe = static_area_pixels(seg.image, points, seg.pixel_label, static_cast<int>(stride));
+    probe = probe_pixels(seg, points);
     if (check_prior(prior, seg, points, probe, out) && !times.empty()) {
       points = deskew(raw, times, interval.sweep_motion(predicted));
       seg = segment(points, config_.sensor, config_.segmentation);
-      probe = static_area_pixels(seg.image, points, seg.pixel_label, static_cast<int>(stride));
+      probe = probe_pixels(seg, points);
     }
+    // The detection's check of T_coarse: what the recent steps fitted sets the bar.
+    prior.previous_range = &previous_range_;
+    prior.min_fit = config_.detection.min_registration_fit * fit_reference_;
   }
 
   // Dynamic-object detection (III.D): T_coarse, re-de-skew, speed matrix, labels, feature mask.
@@ -221,6 +220,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     out.num_dynamic = dyn.num_dynamic;
     out.pseudo_static = dyn.type2;
     out.coarse_valid = dyn.coarse_valid;
+    out.detection_suspended = dyn.suspended;
   }
 
   FeatureSet features;

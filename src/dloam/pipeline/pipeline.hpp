@@ -57,6 +57,7 @@ struct ScanResult {
   int num_dynamic = 0;                ///< dynamic clusters (detector on)
   int pseudo_static = 0;              ///< type-2 pseudo-static objects (dynamic -> static)
   bool coarse_valid = false;          ///< pre-registration gave T_coarse
+  bool detection_suspended = false;   ///< T_coarse fitted too poorly to trust a speed matrix (no detection)
   std::size_t rejected_features = 0;  ///< removed by the pseudo-static rejection
   /// Per module (ms); kMapping: duration of the mapping job integrated at this scan (it ran on
   /// the worker thread); kTotal: this call's wall time, including any wait for that job.

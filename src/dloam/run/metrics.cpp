@@ -96,7 +96,8 @@ json LabelStats::json() const {
 }
 
 json tracking_json(const std::vector<ScanResult>& results) {
-  std::size_t gaps = 0, missed = 0, degenerate = 0, map_degenerate = 0, searched = 0, reinitialized = 0;
+  std::size_t gaps = 0, missed = 0, degenerate = 0, map_degenerate = 0, searched = 0, reinitialized = 0,
+              suspended = 0;
   // Per axis: scans with an unconstrained direction mostly along it (odometry, scan-to-map).
   std::map<std::string, std::size_t> axes, map_axes;
   auto count_axes = [](const Degeneracy& d, std::map<std::string, std::size_t>& into) {
@@ -113,6 +114,7 @@ json tracking_json(const std::vector<ScanResult>& results) {
     count_axes(r.map_degeneracy, map_axes);
     searched += r.search_candidates > 0;
     reinitialized += r.reinitialized;
+    suspended += r.detection_suspended;
     if (r.lost) lost.push_back(r.index);
     max_dt = std::max(max_dt, r.dt);
   }
@@ -124,6 +126,7 @@ json tracking_json(const std::vector<ScanResult>& results) {
           {"reinitialized_steps", reinitialized},
           {"lost_steps", lost.size()},
           {"lost_scans", lost},
+          {"detection_suspended_scans", suspended},
           {"degenerate_scans", degenerate},
           {"unconstrained_axes", axes},
           {"map_degenerate_scans", map_degenerate},
