@@ -157,8 +157,8 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   if (out.suspended) {
     det = no_dynamic(seg);
     if (cnn_) cnn_->remember(previous_vertices_.range, out.T_coarse);
-  } else if (cnn_ &&
-             cnn_->ready()) {  // III.D.3.b: the CNN on the range image bag replaces the two-frame decision
+  } else if (cnn_ && cnn_->ready()) {
+    // III.D.3.b: the CNN on the range image bag replaces the two-frame decision.
     det = cnn_->process(seg, out.points, intensity, previous_vertices_.range, out.T_coarse, detection,
                         have_previous_ ? &S.speed : nullptr);
   } else if (have_previous_) {
