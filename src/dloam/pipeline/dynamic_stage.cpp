@@ -138,10 +138,10 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   // A step the prediction and pre-registration got wrong (a fast turn, a sudden stop) makes the static
   // scene look moving: below the fit that recent steps reached, the speed matrix measures the
   // registration error, and the detection sits this scan out (the odometry then uses every feature).
-  if (have_previous_ && prior.previous_range && prior.min_fit > 0.0 &&
+  if (have_previous_ && prior.previous_range && prior.probe && prior.min_fit > 0.0 &&
       prior.previous_range->size() == seg.image.range.size()) {
-    const double fit = step_fit(seg, out.points, probe_pixels(seg, out.points), out.T_coarse,
-                                *prior.previous_range, config_.sensor);
+    const double fit =
+        step_fit(seg, out.points, *prior.probe, out.T_coarse, *prior.previous_range, config_.sensor);
     out.suspended = fit < prior.min_fit;
   }
   SpeedMatrix S;

@@ -31,9 +31,11 @@ struct StepPrior {
   MotionGate gate;                    ///< how far T_coarse may depart from the prediction
   double search_range = 4.0;          ///< m: forward translation searched when there is no prior
   double yaw_range = 0.0;             ///< rad: turns searched when there is no prior (at most pi)
-  /// The step check's target (the previous scan's ranges) and the fit T_coarse must reach on it
-  /// (step_fit.hpp) for the speed matrix to be trusted; null or 0: always trusted.
+  /// The step check's target (the previous scan's ranges), its probe pixels of this scan and the
+  /// fit T_coarse must reach (step_fit.hpp) for the speed matrix to be trusted; null or 0: always
+  /// trusted.
   const std::vector<float>* previous_range = nullptr;
+  const std::vector<int>* probe = nullptr;
   double min_fit = 0.0;
 };
 

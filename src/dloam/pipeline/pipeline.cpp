@@ -207,6 +207,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
     }
     // The detection's check of T_coarse: what the recent steps fitted sets the bar.
     prior.previous_range = &previous_range_;
+    prior.probe = &probe;
     prior.min_fit = config_.detection.min_registration_fit * fit_reference_;
   }
 
