@@ -158,6 +158,15 @@ void bind_pipeline(py::module_& m) {
       .def_property_readonly("loop_closed", [](const Result& x) { return x.r.loop_closed; })
       .def_property_readonly("degenerate", [](const Result& x) { return x.r.degenerate; })
       .def_property_readonly("num_dynamic", [](const Result& x) { return x.r.num_dynamic; })
+      .def_property_readonly(
+          "reinitialized", [](const Result& x) { return x.r.reinitialized; },
+          "the prediction did not fit the previous scan and a search replaced it")
+      .def_property_readonly(
+          "lost", [](const Result& x) { return x.r.lost; },
+          "the step fits far worse than the recent steps: not estimated (metrics.json lists these scans)")
+      .def_property_readonly(
+          "detection_suspended", [](const Result& x) { return x.r.detection_suspended; },
+          "T_coarse fitted too poorly to trust a speed matrix: no object was marked moving")
       .def("__repr__", [](const Result& x) {
         const Vec3 t = x.r.pose.translation();
         char text[160];
