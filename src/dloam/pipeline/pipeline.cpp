@@ -317,9 +317,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   // Scan-to-map at the mapping rate, on a worker thread; transform integration in between.
   std::vector<std::size_t> map_points;
   if (dynamic_) {
-    // The first scan has no speed matrix, a suspended detection none to trust: their moving objects
-    // are unknown, they add no map points.
-    if (dyn.checked && !dyn.suspended) map_points = static_points(out.labels, seg, dyn.mask.excluded);
+    // The first scan has no speed matrix: its moving objects are unknown, it adds no map points.
+    if (dyn.checked) map_points = static_points(out.labels, seg, dyn.mask.excluded);
   } else {
     map_points.resize(points.size());
     std::iota(map_points.begin(), map_points.end(), std::size_t{0});
