@@ -13,15 +13,18 @@
 
 namespace dloam::test {
 
-/// The drive of `dloam simulate --scenario KIND --frames FRAMES --seed SEED --traffic TRAFFIC`
-/// seen by `sensor` (the world depends on `frames`: a test can process only its first scans).
+/// The drive of `dloam simulate --scenario KIND --frames FRAMES --seed SEED --traffic TRAFFIC
+/// --platform PLATFORM` seen by `sensor` (the world depends on `frames`: a test can process only its
+/// first scans).
 inline sim::Simulator make_simulator(sim::ScenarioKind kind, int frames, std::uint64_t seed,
-                                     const SensorConfig& sensor, double traffic = 1.0) {
+                                     const SensorConfig& sensor, double traffic = 1.0,
+                                     sim::Platform platform = sim::Platform::Car) {
   sim::ScenarioParams params;
   params.kind = kind;
   params.frames = frames;
   params.seed = seed;
   params.traffic = traffic;
+  params.platform = platform;
   sim::LidarOptions options;
   options.sensor = sensor;
   options.seed = seed;

@@ -185,17 +185,10 @@ struct WalkResult {
   double fastest_turn_deg_s = 0.0;
 };
 WalkResult handheld_walk(std::uint64_t seed, int frames, double min_registration_fit) {
-  sim::ScenarioParams params;
-  params.kind = sim::ScenarioKind::Urban;
-  params.platform = sim::Platform::Handheld;
-  params.frames = 300;
-  params.seed = seed;
-  sim::LidarOptions options;
-  options.sensor = sensor_preset("HDL-64E");
-  options.seed = seed;
-  sim::Simulator simulator(sim::make_world(params), options);
+  sim::Simulator simulator = test::make_simulator(sim::ScenarioKind::Urban, 300, seed,
+                                                  sensor_preset("HDL-64E"), 1.0, sim::Platform::Handheld);
   PipelineConfig cfg;
-  cfg.sensor = options.sensor;
+  cfg.sensor = simulator.options().sensor;
   cfg.motion = motion_preset("handheld");
   cfg.detection.detector = Detector::kGeometric;
   cfg.detection.min_registration_fit = min_registration_fit;

@@ -144,9 +144,9 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
         step_fit(seg, out.points, *prior.probe, out.T_coarse, *prior.previous_range, config_.sensor);
     out.suspended = fit < prior.min_fit;
   }
-  SpeedMatrix S;
+  SpeedMatrix S;  // only a detection that runs reads it
   out.checked = have_previous_;
-  if (have_previous_) {
+  if (have_previous_ && !out.suspended) {
     S = compute_speed_matrix(seg.image, out.points, out.T_coarse, previous_vertices_.range, config_.sensor);
   } else {
     S.speed.assign(seg.pixel_label.size(), -1.0f);
@@ -156,7 +156,6 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   DetectionResult det;
   if (out.suspended) {
     det = no_dynamic(seg);
-    if (cnn_) cnn_->remember(previous_vertices_.range, out.T_coarse);
   } else if (cnn_ && cnn_->ready()) {
     // III.D.3.b: the CNN on the range image bag replaces the two-frame decision.
     det = cnn_->process(seg, out.points, intensity, previous_vertices_.range, out.T_coarse, detection,
@@ -168,7 +167,8 @@ DynamicOutput DynamicStage::process(const std::vector<Vec3>& raw, const std::vec
   } else {
     det = no_dynamic(seg);
   }
-  if (!out.suspended && cnn_ && !cnn_->ready()) cnn_->remember(previous_vertices_.range, out.T_coarse);
+  // The CNN's history keeps every scan, also those it did not see (its first m, suspended ones).
+  if (cnn_ && (out.suspended || !cnn_->ready())) cnn_->remember(previous_vertices_.range, out.T_coarse);
   // The tracker associates clusters through the speed matrix's pixels: after a suspended scan it
   // starts again.
   if (out.suspended) tracker_ = ObjectTracker{};
