@@ -191,6 +191,35 @@ TEST(SimPlatforms, HandheldWalkerHasPedestriansAroundAndTouchesNobody) {
   EXPECT_GE(near, 5);
 }
 
+TEST(SimPlatforms, AWalkCrossesTheStreetWhereNoCarIsParked) {
+  // Legged seed 7 crossed through a parked car at 25.7 s (the sensor inside it: an empty scan);
+  // every walk's sensor stays clear of every parked vehicle's footprint, on the sidewalks and
+  // in the street.
+  constexpr double kDuration = 60.0;
+  int in_street = 0;  // samples more than a metre off both sidewalk lines
+  for (const Platform platform : {Platform::Handheld, Platform::Legged})
+    for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+      const World w = walk_world(platform, static_cast<int>(kDuration * 10.0), seed);
+      const double near_line = w.ego.position(0.0).y();
+      for (double t = 0.0; t <= kDuration; t += 0.05) {
+        const Vec2 at = w.ego.position(t);
+        const double off = std::abs(at.y() - near_line);
+        in_street += off > 1.0 && off < 16.2;  // the far line is 17.2 m across
+        for (const StaticObject& o : w.objects) {
+          if (o.kind != "parked_car" && o.kind != "parked_truck") continue;
+          const Vec2 d = at - o.position.head<2>();
+          const double along = std::abs(d.x() * std::cos(o.yaw) + d.y() * std::sin(o.yaw));
+          const double across = std::abs(-d.x() * std::sin(o.yaw) + d.y() * std::cos(o.yaw));
+          const double gap = std::hypot(std::max(0.0, along - 0.5 * o.dims.length),
+                                        std::max(0.0, across - 0.5 * o.dims.width));
+          ASSERT_GE(gap, 0.5) << (platform == Platform::Handheld ? "handheld" : "legged") << " seed " << seed
+                              << " t = " << t << " s: " << o.kind << " " << o.instance;
+        }
+      }
+    }
+  EXPECT_GE(in_street, 200);  // the walks do cross: 10 s in the street at least, all walks together
+}
+
 TEST(SimPlatforms, LeggedRobotTrotsAtThreeToFourHzAndTurnsOnTheSpotAtNinetyDegPerSecond) {
   const double duration = 90.0;
   const World w = walk_world(Platform::Legged, 900, 3);

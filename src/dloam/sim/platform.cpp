@@ -105,7 +105,9 @@ double look_duration(double angle, double hold, const WalkStyle& s) {
 }
 }  // namespace
 
-void plan_walk(Ego& ego, const WalkStyle& s, Rng& rng, const Vec2& start, double other_y, double duration) {
+std::vector<double> plan_walk(Ego& ego, const WalkStyle& s, Rng& rng, const Vec2& start, double other_y,
+                              double duration) {
+  std::vector<double> crossings;
   std::vector<Vec2> waypoints{start};
   std::vector<SpeedKey> speed;
   std::vector<RateKey> yaw{{0.0, 0.0}};
@@ -164,6 +166,7 @@ void plan_walk(Ego& ego, const WalkStyle& s, Rng& rng, const Vec2& start, double
       speed.push_back({t, 0.0});
       at.y() += (far_side ? -cross_dir : cross_dir) * (vc * ramp + d_cruise);
       waypoints.push_back(at);
+      crossings.push_back(at.x());
       far_side = !far_side;
       const double back = t + 0.3 + add_turn(yaw, t + 0.3, -turn, s.yaw_rate_max, s.yaw_accel);
       t = std::max(t + uniform(rng, 0.5, 2.0), back + 0.1);
@@ -199,6 +202,7 @@ void plan_walk(Ego& ego, const WalkStyle& s, Rng& rng, const Vec2& start, double
   b.gait_pitch = {{s.gait_pitch, step_hz, step_phase}};
   b.gait_bob = {{s.gait_bob, step_hz, step_phase + 0.5 * M_PI}};
   b.gait_roll = {{s.gait_roll, s.roll_at_stride ? 0.5 * step_hz : step_hz, phase()}};
+  return crossings;
 }
 
 void plan_drive_events(Ego& ego, Rng& rng, double v, double duration, bool swerve, bool brake,

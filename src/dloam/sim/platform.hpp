@@ -52,9 +52,10 @@ double default_platform_speed(Platform platform);  ///< handheld 1.25, legged 1.
 
 /// Plans a walk from time 0 to `duration` (s): it starts at `start` walking along +x on the line
 /// y = start.y() and crosses to y = other_y (and back) now and then. Sets the ego's path (straight
-/// legs), speed profile, s0, mount height and body motion.
-void plan_walk(Ego& ego, const WalkStyle& style, Rng& rng, const Vec2& start, double other_y,
-               double duration);
+/// legs), speed profile, s0, mount height and body motion. Returns the x of every crossing, so the
+/// street can be kept clear there.
+std::vector<double> plan_walk(Ego& ego, const WalkStyle& style, Rng& rng, const Vec2& start, double other_y,
+                              double duration);
 
 /// Hard braking (8 m/s^2 to standstill, 1.5-4 s standing, 3 m/s^2 back to `v`) and/or lane-change
 /// swerves (peak lateral acceleration 6-8 m/s^2, lowered where the yaw rate would pass 30 deg/s)

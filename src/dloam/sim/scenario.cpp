@@ -179,7 +179,14 @@ World make_city_world(const ScenarioParams& params, bool loop) {
     const double y_far = city.street_y(2) + (0.5 * city.street + 0.6);
     const WalkStyle style = params.platform == Platform::Handheld ? handheld_style(v) : legged_style(v);
     Rng walk_rng(stream_seed(params.seed, 4, 0));
-    plan_walk(w.ego, style, walk_rng, {w.ego.path.at(w.ego.s0).p.x(), y_near}, y_far, duration);
+    const std::vector<double> crossings =
+        plan_walk(w.ego, style, walk_rng, {w.ego.path.at(w.ego.s0).p.x(), y_near}, y_far, duration);
+    // Where the walk crosses, no car is parked and no pole or tree stands at the curb: a parked car
+    // reaches 3.2 m along the street from its slot's centre, and the walker passes at arm's length.
+    constexpr double kCrossingClear = 4.0;  // m on each side of the crossing line
+    for (const double x : crossings)
+      city.keep_clear.push_back({x - kCrossingClear, std::min(y_near, y_far) - 1.0, x + kCrossingClear,
+                                 std::max(y_near, y_far) + 1.0, 0.0});
     clearance_scale = 0.5;
   } else {
     plan_car(w, params, v, duration,
