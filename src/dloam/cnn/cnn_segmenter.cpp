@@ -44,7 +44,8 @@ std::string resolve_model_path(const DetectionConfig& detection, const std::stri
 }
 
 std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir,
-                                                  const SensorConfig& sensor, std::string* note) {
+                                                  const SensorConfig& sensor, const std::string& platform,
+                                                  std::string* note) {
   const std::string path = resolve_model_path(detection, model_dir);
   CnnModelInfo model;
   model.path = path;
@@ -56,7 +57,7 @@ std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, co
     model.trained_rows = o.trained_rows;
     model.trained_cols = o.trained_cols;
   }
-  const DetectorChoice choice = choose_detector(detection.detector, model, sensor);
+  const DetectorChoice choice = choose_detector(detection.detector, model, sensor, platform);
   detection.detector = choice.detector;
   if (note) *note = choice.note;
   if (detection.detector != Detector::kCnn) return nullptr;

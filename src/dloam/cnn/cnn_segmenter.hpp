@@ -20,11 +20,12 @@ std::unique_ptr<MovingSegmenter> load_cnn_segmenter(const std::string& model_pat
 std::string resolve_model_path(const DetectionConfig& detection, const std::string& model_dir);
 
 /// Front-end setup of the detector: resolves detector auto (choose_detector, with the model file's
-/// training size) and an empty model_path (the shipped model) in `detection`, and loads the
+/// training size and the platform) and an empty model_path (the shipped model) in `detection`, and loads the
 /// segmenter when the detector is cnn (null otherwise). `note` (if given) receives the choice's
 /// line for the user. Throws InputError for a missing or bad model file when cnn is asked for.
 /// Front-ends call dloam/run/detector_setup.hpp, which finds `model_dir` in the data folder.
 std::shared_ptr<MovingSegmenter> prepare_detector(DetectionConfig& detection, const std::string& model_dir,
-                                                  const SensorConfig& sensor, std::string* note = nullptr);
+                                                  const SensorConfig& sensor, const std::string& platform,
+                                                  std::string* note = nullptr);
 
 }  // namespace dloam::cnn

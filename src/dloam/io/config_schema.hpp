@@ -125,8 +125,8 @@ void visit(DeskewConfig& c, V& v) {
 template <class V>
 void visit(DetectionConfig& c, V& v) {
   v("detector", c.detector,
-    "dynamic-object detector: none | geometric | cnn | auto (cnn if the model exists and fits the sensor, "
-    "else geometric)",
+    "dynamic-object detector: none | geometric | cnn | auto (cnn if the model exists, fits the sensor and "
+    "motion.platform is car, else geometric)",
     Named{});
   v("v_static", c.v_static, "m/s: static if the range speed |r_k - r_k-1| / dt (eq. 13) is below this",
     at_least(0));

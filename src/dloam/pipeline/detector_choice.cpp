@@ -4,7 +4,8 @@
 
 namespace dloam {
 
-DetectorChoice choose_detector(Detector requested, const CnnModelInfo& model, const SensorConfig& sensor) {
+DetectorChoice choose_detector(Detector requested, const CnnModelInfo& model, const SensorConfig& sensor,
+                               const std::string& platform) {
   DetectorChoice out;
   std::string mismatch;  // the model's training image size when it is not this sensor's
   if (model.available && model.trained_rows > 0 &&
@@ -14,8 +15,13 @@ DetectorChoice choose_detector(Detector requested, const CnnModelInfo& model, co
                std::to_string(sensor.N_scan) + " x " + std::to_string(sensor.Horizon_SCAN);
   switch (requested) {
     case Detector::kAuto:
-      out.detector = model.available && mismatch.empty() ? Detector::kCnn : Detector::kGeometric;
-      if (!mismatch.empty()) out.note = mismatch + ": detector auto uses the geometric detector";
+      out.detector =
+          model.available && mismatch.empty() && platform == "car" ? Detector::kCnn : Detector::kGeometric;
+      if (!mismatch.empty())
+        out.note = mismatch + ": detector auto uses the geometric detector";
+      else if (model.available && platform != "car")
+        out.note = "detector auto uses the geometric detector on a " + platform +
+                   " platform (the CNN learnt from car drives; --detector cnn to use it)";
       break;
     case Detector::kCnn:
       if (!model.available)

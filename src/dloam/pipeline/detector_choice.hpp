@@ -1,7 +1,9 @@
 // The one decision of which moving-object detector a run uses: detection.detector `auto` is the
-// CNN when a model is available and was trained on range images of this sensor's size, else the
-// geometric detector. Every front-end (dloam run, the ROS node, the Python module, the Pipeline
-// given a segmenter) resolves `auto` with this function.
+// CNN when a model is available, was trained on range images of this sensor's size and the
+// platform is a car (the shipped model learnt from car drives; on handheld and legged walks the
+// geometric detector tracks more steps, docs/tracking.md), else the geometric detector. Every
+// front-end (dloam run, the ROS node, the Python module, the Pipeline given a segmenter) resolves
+// `auto` with this function.
 #pragma once
 
 #include <string>
@@ -28,8 +30,10 @@ struct DetectorChoice {
   std::string note;
 };
 
-/// Resolves `requested` (kAuto included) against `model` and the sensor. Throws
-/// std::invalid_argument when kCnn is requested and no model is available.
-DetectorChoice choose_detector(Detector requested, const CnnModelInfo& model, const SensorConfig& sensor);
+/// Resolves `requested` (kAuto included) against `model`, the sensor and the platform
+/// (motion.platform: car, handheld, legged). Throws std::invalid_argument when kCnn is requested
+/// and no model is available.
+DetectorChoice choose_detector(Detector requested, const CnnModelInfo& model, const SensorConfig& sensor,
+                               const std::string& platform);
 
 }  // namespace dloam

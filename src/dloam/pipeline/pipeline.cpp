@@ -64,7 +64,8 @@ Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter
   CnnModelInfo given;  // a segmenter handed over is taken to fit the sensor
   given.available = cnn != nullptr;
   given.missing_reason = "none was given to the Pipeline: dloam/run/detector_setup.hpp loads it";
-  config_.detection.detector = choose_detector(config_.detection.detector, given, config_.sensor).detector;
+  config_.detection.detector =
+      choose_detector(config_.detection.detector, given, config_.sensor, config_.motion.platform).detector;
   if (config_.detection.detector == Detector::kCnn)
     dynamic_ = std::make_unique<DynamicStage>(config_, std::move(cnn));
   if (config_.detection.detector == Detector::kGeometric) dynamic_ = std::make_unique<DynamicStage>(config_);

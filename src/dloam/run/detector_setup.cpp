@@ -24,11 +24,12 @@ namespace {
 /// Resolves the detector when no model can be loaded (`why` says why), through choose_detector as
 /// every other path: auto is the geometric detector, cnn an error. `tell` adds a note for auto.
 std::shared_ptr<MovingSegmenter> without_model(DetectionConfig& detection, const SensorConfig& sensor,
-                                               const std::string& why, bool tell, std::string* note) {
+                                               const std::string& platform, const std::string& why, bool tell,
+                                               std::string* note) {
   CnnModelInfo none;
   none.missing_reason = why;
   try {
-    const DetectorChoice choice = choose_detector(detection.detector, none, sensor);
+    const DetectorChoice choice = choose_detector(detection.detector, none, sensor, platform);
     detection.detector = choice.detector;
     if (note)
       *note = tell && choice.note.empty() ? why + ": detector auto uses the geometric detector" : choice.note;
@@ -49,13 +50,13 @@ std::shared_ptr<MovingSegmenter> prepare_detector(PipelineConfig& config, std::s
   if (detection.model_path.empty() && detection.detector == Detector::kAuto) {
     dir = io::model_dir();
     if (dir.empty())
-      return without_model(detection, config.sensor,
+      return without_model(detection, config.sensor, config.motion.platform,
                            "no dloam data folder with the shipped model was found (set DLOAM_DATA_DIR)", true,
                            note);
   }
-  return cnn::prepare_detector(detection, dir, config.sensor, note);
+  return cnn::prepare_detector(detection, dir, config.sensor, config.motion.platform, note);
 #else
-  return without_model(detection, config.sensor,
+  return without_model(detection, config.sensor, config.motion.platform,
                        "this dloam was built without LibTorch (DLOAM_WITH_TORCH=OFF)", false, note);
 #endif
 }
