@@ -183,3 +183,25 @@ TEST(Deskew, UndoesConstantMotionDuringTheSweep) {
   EXPECT_GT(before, 0.4);
   EXPECT_LT(worst, 0.01);
 }
+
+TEST(Deskew, OfSomePointsEqualsTheWholeScansDeskewAtThem) {
+  // The features of a scan are de-skewed again when a better motion arrives: each must land where
+  // the whole scan's de-skew puts that point (same time slices), a turn and an acceleration included.
+  SweepMotion motion(make_pose(0.02, -0.01, 0.3, {1.2, 0.3, 0.05}));
+  motion.acceleration << 0.0, 0.0, 0.2, 0.5, 0.0, 0.0;
+  std::vector<Vec3> points;
+  std::vector<double> times;
+  for (int i = 0; i < 5000; ++i) {
+    points.emplace_back(20 * std::cos(i * 0.37), 15 * std::sin(i * 0.11), 0.01 * (i % 300) - 1.5);
+    times.push_back(std::fmod(i * 0.6180339887, 1.0));
+  }
+  const std::vector<int> some = {0, 7, 123, 2500, 4999, 1000, 3};
+  for (const int bins : {256, 16}) {
+    const std::vector<Vec3> all = deskew(points, times, motion, 0.5, bins);
+    const std::vector<Vec3> part = deskew(points, times, some, motion, 0.5, bins);
+    ASSERT_EQ(part.size(), some.size());
+    for (std::size_t j = 0; j < some.size(); ++j)
+      EXPECT_EQ(part[j], all[static_cast<std::size_t>(some[j])])
+          << "point " << some[j] << ", " << bins << " bins";
+  }
+}

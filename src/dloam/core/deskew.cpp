@@ -39,26 +39,41 @@ std::vector<double> point_times(const PointCloud& cloud, bool use_channel) {
   return t;
 }
 
+namespace {
+
+/// The motion at the middle of each of `bins` equal slices of the sweep, and the slice of a time.
+struct SliceTable {
+  std::vector<Pose> poses;
+  SliceTable(const SweepMotion& motion, double reference_time, int bins)
+      : poses(static_cast<std::size_t>(bins)) {
+    for (int b = 0; b < bins; ++b)
+      poses[static_cast<std::size_t>(b)] = motion.at((b + 0.5) / bins - reference_time);
+  }
+  [[nodiscard]] const Pose& at(double t) const {
+    const int bins = static_cast<int>(poses.size());
+    return poses[static_cast<std::size_t>(std::clamp(static_cast<int>(t * bins), 0, bins - 1))];
+  }
+};
+
+}  // namespace
+
 std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
                          const SweepMotion& motion, double reference_time, int bins) {
-  std::vector<Pose> table(static_cast<std::size_t>(bins));
-  for (int b = 0; b < bins; ++b)
-    table[static_cast<std::size_t>(b)] = motion.at((b + 0.5) / bins - reference_time);
+  const SliceTable table(motion, reference_time, bins);
   std::vector<Vec3> out(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const int b = std::clamp(static_cast<int>(times[i] * bins), 0, bins - 1);
-    out[i] = table[static_cast<std::size_t>(b)] * points[i];
-  }
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = table.at(times[i]) * points[i];
   return out;
 }
 
 std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
-                         const std::vector<int>& indices, const SweepMotion& motion, double reference_time) {
+                         const std::vector<int>& indices, const SweepMotion& motion, double reference_time,
+                         int bins) {
+  const SliceTable table(motion, reference_time, bins);
   std::vector<Vec3> out;
   out.reserve(indices.size());
   for (int i : indices) {
     const auto k = static_cast<std::size_t>(i);
-    out.push_back(motion.at(times[k] - reference_time) * points[k]);
+    out.push_back(table.at(times[k]) * points[k]);
   }
   return out;
 }

@@ -79,9 +79,10 @@ std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<doub
                          const SweepMotion& motion, double reference_time = 0.5, int bins = 256);
 
 /// The same for the points `indices` of `points` only (e.g. the features of a scan, when a better
-/// motion estimate arrives after they were extracted).
+/// motion estimate arrives after they were extracted): equal to the whole scan's de-skew at those
+/// indices.
 std::vector<Vec3> deskew(const std::vector<Vec3>& points, const std::vector<double>& times,
                          const std::vector<int>& indices, const SweepMotion& motion,
-                         double reference_time = 0.5);
+                         double reference_time = 0.5, int bins = 256);
 
 }  // namespace dloam
