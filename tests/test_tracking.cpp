@@ -77,13 +77,11 @@ TEST(Tracking, DeskewUsesOnlyTheSweepsShareOfALongInterval) {
     seen.push_back(sensor.inverse() * world.back());
     times.push_back(tau);
   }
-  std::vector<int> all(seen.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   // Times in fine slices (the default 256 would add up to 7 mm here), so that only the motion model
   // is measured.
   constexpr int kSlices = 1 << 16;
-  const auto corrected = deskew(seen, times, all, interval.sweep_motion(step), 0.5, kSlices);
-  const auto whole_step = deskew(seen, times, all, step, 0.5, kSlices);  // the interval taken as one sweep
+  const auto corrected = deskew(seen, times, interval.sweep_motion(step), 0.5, kSlices);
+  const auto whole_step = deskew(seen, times, step, 0.5, kSlices);  // the interval taken as one sweep
   double worst = 0.0, worst_whole = 0.0;
   for (std::size_t i = 0; i < world.size(); ++i) {
     worst = std::max(worst, (corrected[i] - world[i]).norm());

@@ -14,15 +14,16 @@ DetectorChoice choose_detector(Detector requested, const CnnModelInfo& model, co
                std::to_string(model.trained_cols) + " range images, this sensor gives " +
                std::to_string(sensor.N_scan) + " x " + std::to_string(sensor.Horizon_SCAN);
   switch (requested) {
-    case Detector::kAuto:
-      out.detector =
-          model.available && mismatch.empty() && platform == "car" ? Detector::kCnn : Detector::kGeometric;
+    case Detector::kAuto: {
+      const bool car = platform == "car";  // the shipped model learnt from car drives
+      out.detector = model.available && mismatch.empty() && car ? Detector::kCnn : Detector::kGeometric;
       if (!mismatch.empty())
         out.note = mismatch + ": detector auto uses the geometric detector";
-      else if (model.available && platform != "car")
+      else if (model.available && !car)
         out.note = "detector auto uses the geometric detector on a " + platform +
                    " platform (the CNN learnt from car drives; --detector cnn to use it)";
       break;
+    }
     case Detector::kCnn:
       if (!model.available)
         throw std::invalid_argument(
