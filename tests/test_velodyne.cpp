@@ -466,6 +466,42 @@ TEST(Velodyne, BadCalibrationFilesNameTheFileAndTheKey) {
   EXPECT_NE(error_of([&] { read_velodyne_calibration("/no/such/VLP16.yaml"); }).find("/no/such/VLP16.yaml"),
             std::string::npos);
 
+  // Numbers far outside any integer or angle are refused by name, in both formats.
+  const std::string huge_count = write_temp("hugecount.yaml", "num_lasers: 1e300\nlasers:\n" + laser);
+  e = error_of([&] { read_velodyne_calibration(huge_count); });
+  EXPECT_NE(e.find("num_lasers is 1e+300 but 'lasers' lists 1"), std::string::npos) << e;
+  const std::string huge_rot =
+      write_temp("hugerot.yaml",
+                 "lasers:\n  - {laser_id: 0, rot_correction: 1e300, vert_correction: 0.1, dist_correction: "
+                 "0.0, vert_offset_correction: 0.0}\n");
+  e = error_of([&] { read_velodyne_calibration(huge_rot); });
+  EXPECT_NE(e.find(huge_rot + ": laser 0: rotational correction"), std::string::npos) << e;
+  const std::string px =
+      "<px><id_>ID</id_><rotCorrection_>ROT</rotCorrection_><vertCorrection_>-15"
+      "</vertCorrection_><distCorrection_>0</distCorrection_><distCorrectionX_>0"
+      "</distCorrectionX_><distCorrectionY_>0</distCorrectionY_><vertOffsetCorrection_>0"
+      "</vertOffsetCorrection_><horizOffsetCorrection_>0</horizOffsetCorrection_>"
+      "<focalDistance_>0</focalDistance_><focalSlope_>0</focalSlope_></px>";
+  auto xml_with = [&](const std::string& name, const std::string& id, const std::string& rot) {
+    std::string item = px;
+    item.replace(item.find("ID"), 2, id);
+    item.replace(item.find("ROT"), 3, rot);
+    return write_temp(name, "<DB><points_><item>" + item + "</item></points_></DB>\n");
+  };
+  EXPECT_EQ(read_velodyne_calibration(xml_with("good.xml", "0", "1.5")).size(), 1);
+  for (const char* id : {"1e30", "-1e30", "0.5", "1"}) {
+    const std::string bad_id = xml_with("badid.xml", id, "0");
+    e = error_of([&] { read_velodyne_calibration(bad_id); });
+    EXPECT_NE(e.find(bad_id + ": points_ item 0: id_ "), std::string::npos) << id << ": " << e;
+    EXPECT_NE(e.find(" is not in 0..0"), std::string::npos) << id << ": " << e;
+  }
+  const std::string bad_rot = xml_with("badrot.xml", "0", "400");
+  e = error_of([&] { read_velodyne_calibration(bad_rot); });
+  EXPECT_NE(e.find("laser 0: rotational correction 400.000000 deg is not an azimuth offset (the file is in "
+                   "degrees)"),
+            std::string::npos)
+      << e;
+
   // A calibration with the wrong number of lasers for the model.
   const std::string one = write_temp("one.yaml", "lasers:\n" + laser);
   DriverOptions o;

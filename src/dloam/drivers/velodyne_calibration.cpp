@@ -54,9 +54,11 @@ VelodyneCalibration read_yaml(const std::string& path) {
   const std::size_t n = lasers.size();
   if (const YAML::Node nl = root["num_lasers"]) {
     const double v = yaml_number(path, nl, "num_lasers");
-    if (v != static_cast<double>(n))
-      fail(path, "num_lasers is " + std::to_string(static_cast<long long>(v)) + " but 'lasers' lists " +
-                     std::to_string(n));
+    if (v != static_cast<double>(n)) {
+      std::ostringstream said;
+      said << v;
+      fail(path, "num_lasers is " + said.str() + " but 'lasers' lists " + std::to_string(n));
+    }
   }
   cal.lasers.resize(n);
   std::vector<bool> seen(n, false);
@@ -99,9 +101,6 @@ VelodyneCalibration read_yaml(const std::string& path) {
         fail(path, at + ".two_pt_correction_available is not a boolean");
       }
     }
-    if (std::abs(laser.vert_correction) > kPi / 2)
-      fail(path, at + ": vert_correction " + std::to_string(laser.vert_correction) +
-                     " rad is not an elevation (the YAML is in radians)");
   }
   return cal;
 }
@@ -158,9 +157,13 @@ VelodyneCalibration read_xml(const std::string& path) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const std::string at = "points_ item " + std::to_string(i);
     const tinyxml2::XMLElement* px = child(path, points[i], "px");
-    const int id = static_cast<int>(xml_number(path, child(path, px, "id_"), at + " id_"));
-    if (id < 0 || id >= static_cast<int>(points.size()))
-      fail(path, at + ": id_ " + std::to_string(id) + " out of range");
+    const double id_value = xml_number(path, child(path, px, "id_"), at + " id_");
+    if (id_value < 0 || id_value >= static_cast<double>(points.size()) || id_value != std::floor(id_value)) {
+      std::ostringstream said;
+      said << id_value;
+      fail(path, at + ": id_ " + said.str() + " is not in 0.." + std::to_string(points.size() - 1));
+    }
+    const int id = static_cast<int>(id_value);
     if (!enabled[static_cast<std::size_t>(id)]) continue;
     auto field = [&](const char* name) { return xml_number(path, child(path, px, name), at + " " + name); };
     VelodyneLaser l;
@@ -189,6 +192,19 @@ VelodyneCalibration read_xml(const std::string& path) {
   return cal;
 }
 
+/// Angles a laser can have: an elevation within +-90 deg and an azimuth offset within +-180 deg.
+void check_angles(const VelodyneCalibration& cal, const std::string& path, const char* unit) {
+  for (const VelodyneLaser& l : cal.lasers) {
+    const std::string at = "laser " + std::to_string(l.laser_id) + ": ";
+    if (std::abs(l.vert_correction) > kPi / 2)
+      fail(path, at + "vertical correction " + std::to_string(l.vert_correction / kDegToRad) +
+                     " deg is not an elevation (the file is in " + unit + ")");
+    if (std::abs(l.rot_correction) > kPi)
+      fail(path, at + "rotational correction " + std::to_string(l.rot_correction / kDegToRad) +
+                     " deg is not an azimuth offset (the file is in " + unit + ")");
+  }
+}
+
 bool looks_like_xml(const std::string& path) {
   std::ifstream in(path);
   if (!in) fail(path, "cannot open the calibration file");
@@ -212,7 +228,9 @@ void assign_velodyne_rings(VelodyneCalibration& calibration) {
 }
 
 VelodyneCalibration read_velodyne_calibration(const std::string& path) {
-  VelodyneCalibration cal = looks_like_xml(path) ? read_xml(path) : read_yaml(path);
+  const bool xml = looks_like_xml(path);
+  VelodyneCalibration cal = xml ? read_xml(path) : read_yaml(path);
+  check_angles(cal, path, xml ? "degrees" : "radians");
   assign_velodyne_rings(cal);
   return cal;
 }
