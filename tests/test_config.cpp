@@ -87,6 +87,18 @@ std::string load_error(const TempDir& dir, const std::string& name, const std::s
 }
 }  // namespace
 
+TEST(Config, TheMapsEdgeLineRatioIsChosenByTheSensorUnlessGiven) {
+  const PipelineConfig c = default_config();
+  EXPECT_EQ(c.mapping.edge_line_ratio, 0.0);  // by the sensor
+  EXPECT_EQ(c.odometry.edge_line_ratio, 3.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 64), 10.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 128), 10.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 32), 3.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 16), 3.0);
+  EXPECT_EQ(edge_line_ratio_for(5.0, 16), 5.0);
+  EXPECT_EQ(config_from_yaml_string("mapping: {edge_line_ratio: 4}").mapping.edge_line_ratio, 4.0);
+}
+
 TEST(Config, EveryFieldOfConfigHppHasAYamlKey) {
   // A field added to a module config needs its line in dloam/io/config_schema.hpp.
   EXPECT_EQ(schema_keys<SensorConfig>(), field_count<SensorConfig>());
@@ -233,6 +245,8 @@ TEST(Config, InconsistentOrOutOfRangeValuesAreErrors) {
   EXPECT_THAT(msg, HasSubstr("sensor.preset"));
   msg = load_error(dir, "odd.yaml", "features: {S: 7}\n");
   EXPECT_THAT(msg, HasSubstr("features.S"));
+  msg = load_error(dir, "line.yaml", "mapping: {edge_line_ratio: 0.5}\n");
+  EXPECT_THAT(msg, HasSubstr("line.yaml: mapping.edge_line_ratio must be 0 (by the sensor) or at least 1"));
   EXPECT_THAT(input_error_of([&] { load_config(dir.file("absent.yaml")); }), HasSubstr("absent.yaml"));
   // Explicit uniform beams make N_scan 32 valid.
   EXPECT_EQ(

@@ -205,3 +205,25 @@ TEST(Deskew, OfSomePointsEqualsTheWholeScansDeskewAtThem) {
           << "point " << some[j] << ", " << bins << " bins";
   }
 }
+
+TEST(Registration, AnEdgesNeighboursAreALineOnlyWhenTheySpreadAlongItEnoughMoreThanAcross) {
+  // Five target edges 0.4 m tall along z; across (x) they are scattered or nearly aligned.
+  auto build = [](FeatureMap& target, double across) {
+    target.edges.build(
+        {{-across, 5, -0.2}, {across, 5, -0.1}, {0, 5, 0.0}, {across, 5, 0.1}, {-across, 5, 0.2}});
+    target.planes.build({});
+  };
+  const FeatureSource src{{{0.0, 5.0, 0.05}}, {}, {}, {}};
+  RegistrationParams p;
+  p.dof = {false, false, false, false, false, false};  // evaluate only
+  // Variance along 0.02 m^2; across 0.0045 (ratio 4.4) when scattered, 0.00008 (ratio 250) when aligned.
+  FeatureMap scattered, aligned;
+  build(scattered, 0.075);
+  build(aligned, 0.01);
+  for (const double ratio : {3.0, 10.0}) {
+    p.min_line_ratio = ratio;
+    EXPECT_EQ(register_features(src, scattered, Pose::Identity(), p).edge_matches, ratio < 4.4 ? 1 : 0)
+        << ratio;
+    EXPECT_EQ(register_features(src, aligned, Pose::Identity(), p).edge_matches, 1) << ratio;
+  }
+}

@@ -8,6 +8,11 @@
 
 namespace dloam {
 
+double edge_line_ratio_for(double configured, int rows) {
+  if (configured > 0.0) return configured;
+  return rows >= 64 ? 10.0 : 3.0;
+}
+
 LoopParams loop_params(const MappingConfig& config, double scan_rate_hz) {
   LoopParams p;
   p.search_radius = config.loop_search_radius;
@@ -42,6 +47,7 @@ MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, c
   if (!local_.empty()) {
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
+    p.min_line_ratio = config_.edge_line_ratio;
     p.max_correspondence = 1.0;
     p.dof = kAllDof;
     p.degeneracy = degeneracy_;

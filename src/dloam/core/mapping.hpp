@@ -30,6 +30,10 @@ struct MappingConfig {
   /// integrated at scan k + latency_scans (0: at once, no thread). At most every_n_scans.
   int latency_scans = 1;
   int max_iterations = 15;
+  /// An edge's match in the local map is a line when its 5 neighbours spread along it at least this
+  /// many times more (variance) than across it. 0: by the sensor (edge_line_ratio_for). With
+  /// LOAM's 3, five map edges scattered over a wall pass for a line.
+  double edge_line_ratio = 0.0;
   double keyframe_distance = 1.0;  ///< m between keyframes
   double keyframe_angle_deg = 10.0;
   double local_map_radius = 50.0;  ///< m around the current pose
@@ -47,6 +51,11 @@ struct MappingConfig {
   /// otherwise close a loop at nearly every keyframe; each one re-optimises the whole graph).
   double loop_min_interval_s = 5.0;
 };
+
+/// `configured` (mapping.edge_line_ratio), or for 0 the measured choice for a sensor of `rows`
+/// beams: 10 from 64 beams up (better on 12 of 13 drives not tuned on), LOAM's 3 below (10 lost a
+/// 16-beam open field; docs/results.md, "Edge lines in the local map").
+double edge_line_ratio_for(double configured, int rows);
 
 /// The loop parameters of a mapping configuration at a scan rate.
 LoopParams loop_params(const MappingConfig& config, double scan_rate_hz);

@@ -13,6 +13,7 @@ OdometryResult ScanToScanOdometry::estimate(const FeatureSource& sharp, const Po
     out.initialized = true;
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
+    p.min_line_ratio = config_.edge_line_ratio;
     p.max_correspondence = config_.max_correspondence;
     if (prior) {  // directions the features do not constrain keep the prior (solution remapping)
       p.degeneracy = degeneracy_;

@@ -20,6 +20,9 @@ struct OdometryConfig {
   /// prediction, centimetres from the truth; LOAM's 5 m (no prior) lets repeated structure
   /// (fence posts, lamp rows) and unflagged traffic pull the estimate along the road.
   double max_correspondence = 2.0;
+  /// An edge's match in the previous scan is a line when its 5 neighbours spread along it at least
+  /// this many times more (variance) than across it (LOAM: 3).
+  double edge_line_ratio = 3.0;
   bool weight_compensation = true;  ///< eq. 15
   /// deg: a sensor tilted more than this (its ground normal from its z axis) is registered in all
   /// six degrees of freedom at once instead of the two-step LM (handheld, legged platforms).

@@ -84,7 +84,7 @@ struct Association {
 Association associate_edge(const Vec3& q, const KdTree& tree, const RegistrationParams& p) {
   Neighbourhood n;
   if (!neighbourhood(tree, q, p, n)) return {};
-  if (n.eigenvalues(2) < 3.0 * n.eigenvalues(1)) return {};  // neighbours do not form a line
+  if (n.eigenvalues(2) < p.min_line_ratio * n.eigenvalues(1)) return {};  // neighbours do not form a line
   return {true, n.mean, n.eigenvectors.col(2)};
 }
 

@@ -173,6 +173,10 @@ void visit(OdometryConfig& c, V& v) {
     at_least(1));
   v("max_correspondence", c.max_correspondence, "nearest-feature search radius (m) around the initial guess",
     above(0));
+  v("edge_line_ratio", c.edge_line_ratio,
+    "an edge's 5 neighbours in the previous scan are a line when their variance along it is this many times "
+    "that across (LOAM: 3)",
+    at_least(1));
   v("max_level_tilt_deg", c.max_level_tilt_deg,
     "deg: a sensor tilted more than this from level is registered in all 6 DoF at once (no two-step LM)",
     within(0, 90));
@@ -212,6 +216,10 @@ void visit(MappingConfig& c, V& v) {
     "scan-to-map runs in parallel; its result is used this many scans later (0: at once, <= every_n_scans)",
     at_least(0));
   v("max_iterations", c.max_iterations, "LM iterations of scan-to-map matching", at_least(1));
+  v("edge_line_ratio", c.edge_line_ratio,
+    "an edge's 5 local-map neighbours are a line when their variance along it is this many times that across "
+    "(LOAM: 3; 0: 10 for sensors of 64 beams or more, 3 below)",
+    at_least(0));
   v("keyframe_distance", c.keyframe_distance, "m between keyframes", at_least(0));
   v("keyframe_angle_deg", c.keyframe_angle_deg, "deg between keyframes", at_least(0));
   v("local_map_radius", c.local_map_radius, "local map: keyframes within this radius (m)", above(0));

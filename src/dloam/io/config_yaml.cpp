@@ -345,6 +345,10 @@ void validate_config(const PipelineConfig& config, const std::string& source) {
   if (c.features.N_fe > c.features.N_Fe) fail("features.N_fe must not exceed N_Fe (f_e is a subset of F_e)");
   if (c.mapping.latency_scans > c.mapping.every_n_scans)
     fail("mapping.latency_scans must not exceed mapping.every_n_scans (one mapping job at a time)");
+  if (c.mapping.edge_line_ratio > 0.0 && c.mapping.edge_line_ratio < 1.0)
+    fail(
+        "mapping.edge_line_ratio must be 0 (by the sensor) or at least 1 (a line spreads more along than "
+        "across)");
   // Voxel keys are 32-bit integers per axis: a leaf of 1 mm spans +-2,100 km, room for points up to
   // 1e6 m from a sensor up to 1e6 m from the start; a smaller leaf would overflow them.
   for (const auto& [key, leaf] :

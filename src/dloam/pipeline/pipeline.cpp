@@ -53,12 +53,18 @@ std::vector<std::size_t> static_points(const std::vector<Label>& labels, const S
   }
   return out;
 }
+
+MappingConfig resolved_mapping(const PipelineConfig& config) {
+  MappingConfig m = config.mapping;
+  m.edge_line_ratio = edge_line_ratio_for(m.edge_line_ratio, config.sensor.N_scan);
+  return m;
+}
 }  // namespace
 
 Pipeline::Pipeline(const PipelineConfig& config, std::shared_ptr<MovingSegmenter> cnn)
     : config_(config),
       odometry_(config.odometry, config.degeneracy),
-      mapper_(config.mapping, config.sensor.scan_rate_hz, config.degeneracy),
+      mapper_(resolved_mapping(config), config.sensor.scan_rate_hz, config.degeneracy),
       motion_(config.motion) {
   config_.sensor.validate();
   CnnModelInfo given;  // a segmenter handed over is taken to fit the sensor
