@@ -53,7 +53,7 @@ struct MappingConfig {
 };
 
 /// `configured` (mapping.edge_line_ratio), or for 0 the measured choice for a sensor of `rows`
-/// beams: 10 from 64 beams up (better on 12 of 14 64-beam drives), LOAM's 3 below (10 lost a
+/// beams: 10 from 64 beams up (better on 12 of 15 64-beam drives), LOAM's 3 below (10 lost a
 /// 16-beam open field; docs/results.md, "Edge lines in the local map").
 double edge_line_ratio_for(double configured, int rows);
 
