@@ -91,11 +91,12 @@ TEST(Config, TheMapsEdgeLineRatioIsChosenByTheSensorUnlessGiven) {
   const PipelineConfig c = default_config();
   EXPECT_EQ(c.mapping.edge_line_ratio, 0.0);  // by the sensor
   EXPECT_EQ(c.odometry.edge_line_ratio, 3.0);
-  EXPECT_EQ(edge_line_ratio_for(0.0, 64), 10.0);
-  EXPECT_EQ(edge_line_ratio_for(0.0, 128), 10.0);
-  EXPECT_EQ(edge_line_ratio_for(0.0, 32), 3.0);
-  EXPECT_EQ(edge_line_ratio_for(0.0, 16), 3.0);
-  EXPECT_EQ(edge_line_ratio_for(5.0, 16), 5.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 64, true), 10.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 128, true), 10.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 64, false), 3.0);  // handheld, legged
+  EXPECT_EQ(edge_line_ratio_for(0.0, 32, true), 3.0);
+  EXPECT_EQ(edge_line_ratio_for(0.0, 16, true), 3.0);
+  EXPECT_EQ(edge_line_ratio_for(5.0, 16, false), 5.0);
   EXPECT_EQ(config_from_yaml_string("mapping: {edge_line_ratio: 4}").mapping.edge_line_ratio, 4.0);
 }
 

@@ -8,9 +8,9 @@
 
 namespace dloam {
 
-double edge_line_ratio_for(double configured, int rows) {
+double edge_line_ratio_for(double configured, int rows, bool car) {
   if (configured > 0.0) return configured;
-  return rows >= 64 ? 10.0 : 3.0;
+  return car && rows >= 64 ? 10.0 : kLoamLineRatio;
 }
 
 LoopParams loop_params(const MappingConfig& config, double scan_rate_hz) {
@@ -47,7 +47,7 @@ MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, c
   if (!local_.empty()) {
     RegistrationParams p;
     p.max_iterations = config_.max_iterations;
-    p.min_line_ratio = config_.edge_line_ratio;
+    p.min_line_ratio = config_.edge_line_ratio > 0.0 ? config_.edge_line_ratio : kLoamLineRatio;
     p.max_correspondence = 1.0;
     p.dof = kAllDof;
     p.degeneracy = degeneracy_;

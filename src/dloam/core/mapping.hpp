@@ -31,8 +31,9 @@ struct MappingConfig {
   int latency_scans = 1;
   int max_iterations = 15;
   /// An edge's match in the local map is a line when its 5 neighbours spread along it at least this
-  /// many times more (variance) than across it. 0: by the sensor (edge_line_ratio_for). With
-  /// LOAM's 3, five map edges scattered over a wall pass for a line.
+  /// many times more (variance) than across it. 0: by the sensor, which the Pipeline resolves
+  /// (edge_line_ratio_for); a Mapper given 0 takes LOAM's 3. With 3, five map edges scattered
+  /// over a wall pass for a line.
   double edge_line_ratio = 0.0;
   double keyframe_distance = 1.0;  ///< m between keyframes
   double keyframe_angle_deg = 10.0;
@@ -53,9 +54,10 @@ struct MappingConfig {
 };
 
 /// `configured` (mapping.edge_line_ratio), or for 0 the measured choice for a sensor of `rows`
-/// beams: 10 from 64 beams up (better on 12 of 15 64-beam drives), LOAM's 3 below (10 lost a
-/// 16-beam open field; docs/results.md, "Edge lines in the local map").
-double edge_line_ratio_for(double configured, int rows);
+/// beams on a `car` or not: 10 on a car from 64 beams up (better on 12 of 15 64-beam car drives),
+/// LOAM's 3 otherwise (10 lost a 16-beam open field and two of three 64-beam handheld walks;
+/// docs/results.md, "Edge lines in the local map").
+double edge_line_ratio_for(double configured, int rows, bool car);
 
 /// The loop parameters of a mapping configuration at a scan rate.
 LoopParams loop_params(const MappingConfig& config, double scan_rate_hz);

@@ -36,13 +36,16 @@ inline double& feature_weight(FeatureSource& src, std::size_t i) {
   return i < src.edges.size() ? src.edge_weights[i] : src.plane_weights[i - src.edges.size()];
 }
 
+/// LOAM's test of a line: the largest eigenvalue at least 3 times the second.
+inline constexpr double kLoamLineRatio = 3.0;
+
 struct RegistrationParams {
   int max_iterations = 20;
   double max_correspondence = 1.0;  ///< m: neighbours farther than this give no residual
   int neighbours = 5;
   /// An edge's neighbours form a line when the variance along it is at least this many times the
-  /// largest variance across it (eigenvalues of their covariance; LOAM: 3).
-  double min_line_ratio = 3.0;
+  /// largest variance across it (eigenvalues of their covariance).
+  double min_line_ratio = kLoamLineRatio;
   double huber = 0.1;  ///< m: robust kernel width
   /// Which directions count as unconstrained. They are found at the initial guess (first
   /// iteration) and stay fixed: the iterations then minimise over the constrained directions only.

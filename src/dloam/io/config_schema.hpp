@@ -218,7 +218,7 @@ void visit(MappingConfig& c, V& v) {
   v("max_iterations", c.max_iterations, "LM iterations of scan-to-map matching", at_least(1));
   v("edge_line_ratio", c.edge_line_ratio,
     "an edge's 5 local-map neighbours are a line when their variance along it is this many times that across "
-    "(LOAM: 3; 0: 10 for sensors of 64 beams or more, 3 below)",
+    "(LOAM: 3; 0: 10 on a car with 64 beams or more, else 3)",
     at_least(0));
   v("keyframe_distance", c.keyframe_distance, "m between keyframes", at_least(0));
   v("keyframe_angle_deg", c.keyframe_angle_deg, "deg between keyframes", at_least(0));

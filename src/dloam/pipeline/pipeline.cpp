@@ -56,7 +56,8 @@ std::vector<std::size_t> static_points(const std::vector<Label>& labels, const S
 
 MappingConfig resolved_mapping(const PipelineConfig& config) {
   MappingConfig m = config.mapping;
-  m.edge_line_ratio = edge_line_ratio_for(m.edge_line_ratio, config.sensor.N_scan);
+  m.edge_line_ratio =
+      edge_line_ratio_for(m.edge_line_ratio, config.sensor.N_scan, config.motion.platform == "car");
   return m;
 }
 }  // namespace
