@@ -54,7 +54,7 @@ struct MappingConfig {
 };
 
 /// `configured` (mapping.edge_line_ratio), or for 0 the measured choice for a sensor of `rows`
-/// beams on a `car` or not: 10 on a car from 64 beams up (better on 12 of 15 64-beam car drives),
+/// beams on a `car` or not: 10 on a car from 64 beams up (better on 11 of 14 64-beam car drives),
 /// LOAM's 3 otherwise (10 lost a 16-beam open field and two of three 64-beam handheld walks;
 /// docs/results.md, "Edge lines in the local map").
 double edge_line_ratio_for(double configured, int rows, bool car);
