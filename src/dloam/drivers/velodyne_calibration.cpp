@@ -21,6 +21,13 @@ constexpr double kDegToRad = kPi / 180.0;
   throw InputError(path + ": " + what);
 }
 
+/// A number read from the file as the message shows it (shortest form; any magnitude, no cast).
+std::string as_written(double v) {
+  std::ostringstream text;
+  text << v;
+  return text.str();
+}
+
 double yaml_number(const std::string& path, const YAML::Node& node, const std::string& where) {
   try {
     const double v = node.as<double>();
@@ -54,11 +61,8 @@ VelodyneCalibration read_yaml(const std::string& path) {
   const std::size_t n = lasers.size();
   if (const YAML::Node nl = root["num_lasers"]) {
     const double v = yaml_number(path, nl, "num_lasers");
-    if (v != static_cast<double>(n)) {
-      std::ostringstream said;
-      said << v;
-      fail(path, "num_lasers is " + said.str() + " but 'lasers' lists " + std::to_string(n));
-    }
+    if (v != static_cast<double>(n))
+      fail(path, "num_lasers is " + as_written(v) + " but 'lasers' lists " + std::to_string(n));
   }
   cal.lasers.resize(n);
   std::vector<bool> seen(n, false);
@@ -158,11 +162,8 @@ VelodyneCalibration read_xml(const std::string& path) {
     const std::string at = "points_ item " + std::to_string(i);
     const tinyxml2::XMLElement* px = child(path, points[i], "px");
     const double id_value = xml_number(path, child(path, px, "id_"), at + " id_");
-    if (id_value < 0 || id_value >= static_cast<double>(points.size()) || id_value != std::floor(id_value)) {
-      std::ostringstream said;
-      said << id_value;
-      fail(path, at + ": id_ " + said.str() + " is not in 0.." + std::to_string(points.size() - 1));
-    }
+    if (id_value < 0 || id_value >= static_cast<double>(points.size()) || id_value != std::floor(id_value))
+      fail(path, at + ": id_ " + as_written(id_value) + " is not in 0.." + std::to_string(points.size() - 1));
     const int id = static_cast<int>(id_value);
     if (!enabled[static_cast<std::size_t>(id)]) continue;
     auto field = [&](const char* name) { return xml_number(path, child(path, px, name), at + " " + name); };
