@@ -71,3 +71,45 @@ TEST(RangeImage, KeepsNearestPointPerPixelAndMapsBothWays) {
   for (int p : img.point_of_pixel) filled += p >= 0;
   EXPECT_EQ(filled, 2);
 }
+
+TEST(RangeImage, ReprojectedRangesFollowTheNewAzimuthKeepTheRowAndDropExcludedPixels) {
+  SensorConfig s = sensor_preset("VLP-16");
+  s.Horizon_SCAN = 360;
+  // Two points in one pixel (the nearer wins), one alone, one outside the field of view.
+  const std::vector<Vec3> before = {dir(10.2, 1.0, 10.0), dir(10.3, 1.1, 5.0), dir(-40.0, -15.0, 20.0),
+                                    dir(0.0, 30.0, 10.0)};
+  const RangeImage img = project(before, s);
+  // A second de-skew turns every point by 3 deg and moves the first two apart in range.
+  const double turn = 3.0;
+  const std::vector<Vec3> after = {dir(10.2 + turn, 1.0, 4.0), dir(10.3 + turn, 1.1, 6.0),
+                                   dir(-40.0 + turn, -15.0, 21.0), dir(turn, 30.0, 10.0)};
+  const std::vector<float> range = reprojected_range(img, after, {});
+  ASSERT_EQ(range.size(), img.range.size());
+  const auto at = [&](std::size_t i) {
+    const Vec3& p = after[i];
+    return range[static_cast<std::size_t>(
+        img.pixel(img.row_of_point[i], azimuth_column(p.x(), p.y(), img.cols)))];
+  };
+  EXPECT_FLOAT_EQ(at(0), 4.0f);  // now the nearer of the two
+  EXPECT_FLOAT_EQ(at(2), 21.0f);
+  // The old pixels are empty: every point moved by three columns.
+  EXPECT_EQ(range[static_cast<std::size_t>(img.pixel_of_point(0))], 0.0f);
+  EXPECT_EQ(range[static_cast<std::size_t>(img.pixel_of_point(2))], 0.0f);
+  int filled = 0;
+  for (float r : range) filled += r > 0.0f;
+  EXPECT_EQ(filled, 2);  // the point outside the field of view stays out
+  // The rows are the image's, not recomputed from the new elevation.
+  std::vector<Vec3> lifted = after;
+  lifted[2] = dir(-40.0 + turn, -13.0, 21.0);  // the next beam's elevation
+  const std::vector<float> kept_row = reprojected_range(img, lifted, {});
+  EXPECT_FLOAT_EQ(
+      kept_row[static_cast<std::size_t>(img.pixel(0, azimuth_column(lifted[2].x(), lifted[2].y(), 360)))],
+      21.0f);
+  // A point whose pixel in the image is excluded (a moving object) stays out.
+  std::vector<std::uint8_t> excluded(img.range.size(), 0);
+  excluded[static_cast<std::size_t>(img.pixel_of_point(0))] = 1;
+  const std::vector<float> masked = reprojected_range(img, after, excluded);
+  filled = 0;
+  for (float r : masked) filled += r > 0.0f;
+  EXPECT_EQ(filled, 1);
+}

@@ -48,7 +48,13 @@ MotionConfig motion_preset(const std::string& platform) {
   throw std::invalid_argument("unknown platform '" + platform + "' (known: " + known + ")");
 }
 
-Pose MotionModel::predict(double dt) const { return known_ ? exp_se3(dt * twist_) : Pose::Identity(); }
+Pose MotionModel::predict(double dt) const {
+  if (!known_) return Pose::Identity();
+  Vec6 twist = twist_;
+  // From the middle of the last step to the middle of this one.
+  if (config_.turn_acceleration && change_known_) twist(2) += yaw_rate_change_ * 0.5 * (dt_last_ + dt);
+  return exp_se3(dt * twist);
+}
 
 MotionGate MotionModel::gate(double dt) const {
   // The velocity of the last step is its mean over that interval, the next step's over this one:
@@ -61,7 +67,14 @@ MotionGate MotionModel::gate(double dt) const {
 void MotionModel::update(const Pose& step, double dt) {
   if (!(dt > 0.0))
     throw std::invalid_argument("MotionModel::update: the time between scans must be positive");
-  twist_ = log_se3(step) / dt;
+  const Vec6 twist = log_se3(step) / dt;
+  change_known_ = known_;
+  if (known_) {
+    const double change = (twist(2) - twist_(2)) / (0.5 * (dt_last_ + dt));
+    const double limit = config_.max_angular_acceleration_deg * kDeg;
+    yaw_rate_change_ = std::clamp(change, -limit, limit);
+  }
+  twist_ = twist;
   dt_last_ = dt;
   known_ = true;
 }

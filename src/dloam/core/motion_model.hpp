@@ -30,6 +30,14 @@ struct MotionConfig {
   /// Check each prediction against the previous scan and search the step without it when the
   /// data contradicts it (and the first step, without a detector); off: always trust it.
   bool step_search = true;
+  /// Predict the turn rate about the sensor's z axis at constant angular acceleration: its change
+  /// between the last two steps goes on (at most max_angular_acceleration_deg). A turn on the spot
+  /// from standing speeds up over several scans, and at constant turn rate each of those steps is
+  /// predicted short by the whole change. Off on every platform: where turns reverse within a scan
+  /// or two (a walker looking around, a trotting robot), the extrapolation overshoots by twice the
+  /// change, and simulated walks lost track more often with it (docs/tracking.md). Pitch, roll and
+  /// translation stay at constant velocity.
+  bool turn_acceleration = false;
 };
 
 /// The built-in platforms: car, handheld, legged.
@@ -52,7 +60,8 @@ class MotionModel {
   explicit MotionModel(const MotionConfig& config) : config_(config) {}
 
   /// The motion (scan frame -> previous scan frame) expected over `dt` seconds: the last velocity
-  /// held constant; identity before the first step.
+  /// held constant (with turn_acceleration, the turn rate changing as between the last two steps);
+  /// identity before the first step.
   [[nodiscard]] Pose predict(double dt) const;
   /// How far a step over `dt` may depart from predict(dt): the acceleration limits over the
   /// interval (a * dt * (dt + dt_last) / 2, the velocity change over half of each interval) plus
@@ -61,7 +70,7 @@ class MotionModel {
   /// The step just estimated over `dt` seconds becomes the velocity.
   void update(const Pose& step, double dt);
   /// Forgets the velocity (the next step is predicted as standing still, with no gate history).
-  void reset() { known_ = false; }
+  void reset() { known_ = change_known_ = false; }
   [[nodiscard]] bool known() const { return known_; }
   /// The velocity [wx, wy, wz, vx, vy, vz] (rad/s, m/s) in the sensor frame.
   [[nodiscard]] const Vec6& twist() const { return twist_; }
@@ -74,6 +83,8 @@ class MotionModel {
   Vec6 twist_ = Vec6::Zero();
   double dt_last_ = 0.0;
   bool known_ = false;
+  double yaw_rate_change_ = 0.0;  ///< rad/s^2 about the sensor's z between the middles of the last two steps
+  bool change_known_ = false;
 };
 
 }  // namespace dloam

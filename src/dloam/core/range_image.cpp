@@ -65,4 +65,19 @@ RangeImage project(const std::vector<Vec3>& points, const SensorConfig& sensor) 
   return img;
 }
 
+std::vector<float> reprojected_range(const RangeImage& image, const std::vector<Vec3>& points,
+                                     const std::vector<std::uint8_t>& excluded) {
+  std::vector<float> range(image.range.size(), 0.0f);
+  for (std::size_t i = 0; i < points.size() && i < image.row_of_point.size(); ++i) {
+    const int px = image.pixel_of_point(i);
+    if (px < 0 || (!excluded.empty() && excluded[static_cast<std::size_t>(px)])) continue;
+    const Vec3& p = points[i];
+    const auto r = static_cast<float>(p.norm());
+    float& slot = range[static_cast<std::size_t>(
+        image.pixel(image.row_of_point[i], azimuth_column(p.x(), p.y(), image.cols)))];
+    if (slot == 0.0f || r < slot) slot = r;
+  }
+  return range;
+}
+
 }  // namespace dloam

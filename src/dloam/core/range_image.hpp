@@ -1,6 +1,7 @@
 // Range-image projection (paper eq. 4-6) keeping the point <-> pixel correspondence both ways.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "dloam/core/sensor.hpp"
@@ -45,5 +46,11 @@ double point_elevation_deg(const Vec3& p);
 /// others keep their row/col (so labels can be back-projected to every point). Points outside
 /// the vertical field of view or the range limits get row/col -1.
 RangeImage project(const std::vector<Vec3>& points, const SensorConfig& sensor);
+
+/// The ranges of image's points after they moved a little (a second de-skew): each point keeps its
+/// row, its column follows its new azimuth, the nearest point of a pixel wins. Points that image
+/// left out stay out, and so do those whose pixel in image is set in excluded (when not empty).
+std::vector<float> reprojected_range(const RangeImage& image, const std::vector<Vec3>& points,
+                                     const std::vector<std::uint8_t>& excluded);
 
 }  // namespace dloam

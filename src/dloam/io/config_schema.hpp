@@ -112,6 +112,9 @@ void visit(MotionConfig& c, V& v) {
   v("step_noise_deg", c.step_noise_deg, "deg: the same for rotations", at_least(0));
   v("step_search", c.step_search,
     "search a step without the prediction when the scan contradicts it (and the first step)", Range{});
+  v("turn_acceleration", c.turn_acceleration,
+    "predict the turn rate about z at constant angular acceleration (a turn from standing), else constant",
+    Range{});
 }
 
 template <class V>

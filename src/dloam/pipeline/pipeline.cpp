@@ -233,6 +233,7 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   }
 
   FeatureSet features;
+  bool redeskewed = false;  // the odometry's motion differed enough from the de-skew's to do it again
   {
     ScopedTimer t(out.times, Module::kFeatures);
     features = extract_features(points, seg, config_.features, dynamic_ ? &dyn.mask : nullptr);
@@ -293,7 +294,9 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       // the refined features.
       const Pose change =
           interval.sweep_motion(initial).pose().inverse() * interval.sweep_motion(odo.motion).pose();
-      if (rotation_angle(change) > kRedeskewRotation || translation_norm(change) > kRedeskewTranslation) {
+      redeskewed =
+          rotation_angle(change) > kRedeskewRotation || translation_norm(change) > kRedeskewTranslation;
+      if (redeskewed) {
         const SweepMotion sweep = interval.sweep_motion(odo.motion);
         sharp.edges = deskew(raw, times, features.f_e_index, sweep);
         sharp.planes = deskew(raw, times, features.f_p_index, sweep);
@@ -302,6 +305,8 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
       const SweepMotion sweep = interval.sweep_motion(odo.motion);
       features.F_e = deskew(raw, times, features.F_e_index, sweep);
       features.F_p = deskew(raw, times, features.F_p_index, sweep);
+      // So are the scan's points: the map's, and the image the next step is checked against.
+      if (redeskewed) points = deskew(raw, times, sweep);
     }
     if (!probe.empty()) {
       // How well the estimate brings the scan onto the previous one: the reference of the next
@@ -350,10 +355,15 @@ ScanResult Pipeline::process(const PointCloud& cloud) {
   last_pose_ = out.pose;
   // The next step check compares with this scan's static part: moving objects cannot vouch for a
   // motion (traffic moving with the sensor agrees with standing still).
-  previous_range_ = std::move(seg.image.range);
-  if (dynamic_ && dyn.checked)
-    for (std::size_t px = 0; px < previous_range_.size(); ++px)
-      if (dyn.mask.excluded[px]) previous_range_[px] = 0.0f;
+  if (redeskewed) {
+    previous_range_ = reprojected_range(
+        seg.image, points, dynamic_ && dyn.checked ? dyn.mask.excluded : std::vector<std::uint8_t>{});
+  } else {
+    previous_range_ = std::move(seg.image.range);
+    if (dynamic_ && dyn.checked)
+      for (std::size_t px = 0; px < previous_range_.size(); ++px)
+        if (dyn.mask.excluded[px]) previous_range_[px] = 0.0f;
+  }
   ++count_;
   return out;
 }
