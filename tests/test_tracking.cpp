@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <unordered_set>
 #include <vector>
 
@@ -54,6 +55,25 @@ struct StepStats {
         tracked, steps, lost, worst.translation, worst.rotation_deg);
   }
 };
+
+/// The first `frames` scans of `simulator` through `pipeline`: the real-time poses, the true ones
+/// and their steps' errors; `each` sees every simulated scan.
+struct Tracked {
+  std::vector<Pose> est, gt;
+  StepStats stats;
+};
+Tracked track_steps(Pipeline& pipeline, sim::Simulator& simulator, int frames,
+                    const std::function<void(int, const sim::SimFrame&)>& each = {}) {
+  Tracked t;
+  for (int k = 0; k < frames; ++k) {
+    const sim::SimFrame f = simulator.frame(k);
+    t.est.push_back(pipeline.process(f.scan.cloud).pose);
+    t.gt.push_back(f.pose);
+    if (k > 0) t.stats.add(step_error(t.est[k - 1], t.est[k], t.gt[k - 1], t.gt[k]));
+    if (each) each(k, f);
+  }
+  return t;
+}
 
 }  // namespace
 
@@ -162,14 +182,9 @@ TEST(Tracking, TurnOnTheSpotAtNinetyDegreesPerSecond) {
   PipelineConfig cfg;
   cfg.sensor = simulator.options().sensor;
   Pipeline pipeline(cfg);
-  std::vector<Pose> est, gt;
-  StepStats stats;
-  for (int k = 0; k < kFrames; ++k) {
-    const sim::SimFrame f = simulator.frame(k);
-    est.push_back(pipeline.process(f.scan.cloud).pose);
-    gt.push_back(f.pose);
-    if (k > 0) stats.add(step_error(est[k - 1], est[k], gt[k - 1], gt[k]));
-  }
+  const Tracked run = track_steps(pipeline, simulator, kFrames);
+  const std::vector<Pose>& gt = run.gt;
+  const StepStats& stats = run.stats;
   const double turned = rotation_angle(gt.front().inverse() * gt[5]) / kDeg;
   std::printf("turned %.1f deg in 5 scans\n", turned);
   stats.print("turn on the spot");
@@ -262,16 +277,12 @@ TEST(Tracking, AHandheldTurnFromStandingIsTrackedAndMappedSharp) {
     return (c(p.x()) << 42) | (c(p.y()) << 21) | c(p.z());
   };
   std::unordered_set<std::int64_t> seen;
-  std::vector<Pose> est, gt;
-  StepStats stats;
-  for (int k = 0; k < kFrames; ++k) {
-    const sim::SimFrame f = simulator.frame(k);
-    est.push_back(pipeline.process(f.scan.cloud).pose);
-    gt.push_back(f.pose);
-    if (k > 0) stats.add(step_error(est[k - 1], est[k], gt[k - 1], gt[k]));
+  const Tracked run = track_steps(pipeline, simulator, kFrames, [&](int k, const sim::SimFrame& f) {
     for (std::size_t i = 0; i < f.scan.cloud.xyz.size(); ++i)
       seen.insert(key(simulator.sensor_pose(k, f.scan.cloud.time[i]) * f.scan.cloud.xyz[i]));
-  }
+  });
+  const std::vector<Pose>& gt = run.gt;
+  const StepStats& stats = run.stats;
   stats.print("turn from standing");
   EXPECT_NEAR(rotation_angle(gt[kFrames - 2].inverse() * gt[kFrames - 1]) / kDeg, 15.0, 0.01);
   EXPECT_EQ(stats.lost, 0);
