@@ -236,3 +236,33 @@ TEST(Degeneracy, OnAHighwayTheMapCorrectsTheDriftAlongTheRoadThatTheOdometryMeas
   EXPECT_LT(ea.error.translation().norm(), 0.005 * path);
   EXPECT_LT(eo.error.translation().norm(), 0.005 * path);
 }
+
+TEST(Degeneracy, TheMapKeepsAPredictionOnlyWhereItCanTrustIt) {
+  // A corridor with one end wall of a few hundred points: the travel along it is measured, but by
+  // a small share of the matches, under degeneracy.min_fraction. The map's prediction is 0.3 m off
+  // along the axis. Kept when nothing says how far it can be off (the odometry's step), estimated
+  // when its step was reported lost (any error possible).
+  std::vector<Vec3> planes = corridor(false);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 400; ++i) planes.emplace_back(30.0, 5.5 * u(rng), 3 * u(rng) + 1.2);
+  MappingConfig config;
+  config.loop_closure = false;
+  const Pose truth = make_pose(0.0, {0.5, 0.0, 0.0});
+  const FeatureSource first{{}, planes, {}, {}};
+  const FeatureSource second{{}, transformed(truth.inverse(), planes), {}, {}};
+  const Pose predicted = make_pose(0.0, {0.8, 0.0, 0.0});
+  const auto run = [&](const PriorError& error) {
+    Mapper mapper(config, 10.0, DegeneracyConfig{});
+    mapper.process(0, first, Pose::Identity(), true);
+    return mapper.process(1, second, predicted, false, std::nullopt, error);
+  };
+  const MappingResult kept = run({});
+  ASSERT_TRUE(kept.registration.degenerate());
+  EXPECT_EQ(unconstrained_names(kept.registration.degeneracy), "x");
+  EXPECT_NEAR(kept.pose.translation().x(), 0.8, 0.01);
+  const MappingResult estimated = run({M_PI, 100.0});
+  EXPECT_EQ(unconstrained_names(estimated.registration.degeneracy), "x");  // reported all the same
+  EXPECT_NEAR(estimated.pose.translation().x(), 0.5, 0.02);
+  EXPECT_NEAR(estimated.pose.translation().y(), 0.0, 0.01);
+}

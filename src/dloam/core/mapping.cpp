@@ -32,7 +32,8 @@ bool Mapper::needs_keyframe(const Pose& pose) const {
 }
 
 MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, const Pose& predicted,
-                              std::optional<bool> keyframe, const std::optional<SecondOpinion>& odometry) {
+                              std::optional<bool> keyframe, const std::optional<SecondOpinion>& odometry,
+                              const PriorError& prediction_error) {
   MappingResult out;
   last_scan_ = scan;
   take_loop(scan, false, &out);
@@ -52,6 +53,7 @@ MappingResult Mapper::process(std::size_t scan, const FeatureSource& features, c
     p.dof = kAllDof;
     p.degeneracy = degeneracy_;
     p.prior = out.pose;  // the odometry's motion along directions the map does not constrain
+    p.prior_error = prediction_error;
     p.second_opinion = odometry;
     out.registration = register_features(source, local_.around(out.pose.translation()), out.pose, p);
     out.pose = out.registration.T;

@@ -90,9 +90,12 @@ class Mapper {
   /// increase. `keyframe`: whether the scan becomes a keyframe (at its registered pose); when not
   /// given, needs_keyframe() of the registered pose decides. `odometry`: the odometry's degeneracy
   /// of the scan in the world frame (second_opinion), asked when degeneracy.odometry_min_features > 0.
+  /// `prediction_error`: how far `predicted` can be off; the directions the map leaves
+  /// unconstrained keep it only where that is within degeneracy.max_prior_error (zero: all do).
   MappingResult process(std::size_t scan, const FeatureSource& features, const Pose& predicted,
                         std::optional<bool> keyframe = std::nullopt,
-                        const std::optional<SecondOpinion>& odometry = std::nullopt);
+                        const std::optional<SecondOpinion>& odometry = std::nullopt,
+                        const PriorError& prediction_error = {});
 
   /// Adds static points (sensor frame) of the newest keyframe's scan to the global map.
   void add_to_global_map(const std::vector<Vec3>& points);

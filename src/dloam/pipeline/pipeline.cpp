@@ -391,6 +391,8 @@ void Pipeline::map_scan(ScanResult& out, const FeatureSet& features, const std::
   // twists into the map's), unless its step was found not to fit.
   if (count_ > 0 && out.degeneracy.free == 6 && !out.lost)
     in.odometry = second_opinion(out.degeneracy, (correction_ * odometry_poses_[count_ - 1]).linear());
+  // A step reported lost is no prediction to keep where the map sees too little.
+  if (out.lost) in.prediction_error = {M_PI, config_.sensor.max_range};
   out.mapped = true;
   out.keyframe = in.keyframe;
   // A keyframe whose scan gave no map points (the first scan with a detector on: its moving
@@ -437,7 +439,8 @@ void Pipeline::start_job(MappingInput input) {
     MappingOutput o;
     const std::string where = "mapping of scan " + std::to_string(in.scan) + ": ";
     try {
-      o.result = mapper_.process(in.scan, in.features, in.predicted, in.keyframe, in.odometry);
+      o.result =
+          mapper_.process(in.scan, in.features, in.predicted, in.keyframe, in.odometry, in.prediction_error);
       if (in.keyframe) {
         mapper_.add_to_global_map(in.points);
       } else if (!in.points.empty()) {  // the points of a keyframe that had none (map_scan)

@@ -107,6 +107,7 @@ class Pipeline {
     Pose predicted = Pose::Identity();
     bool keyframe = false;
     std::optional<SecondOpinion> odometry;  ///< the odometry's degeneracy, world frame
+    PriorError prediction_error;            ///< how far `predicted` can be off (zero: not known)
   };
   struct MappingOutput {
     MappingResult result;
