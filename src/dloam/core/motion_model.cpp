@@ -52,7 +52,7 @@ Pose MotionModel::predict(double dt) const {
   if (!known_) return Pose::Identity();
   Vec6 twist = twist_;
   // From the middle of the last step to the middle of this one.
-  if (config_.turn_acceleration && change_known_) twist(2) += yaw_rate_change_ * 0.5 * (dt_last_ + dt);
+  if (config_.turn_acceleration) twist(2) += yaw_rate_change_ * 0.5 * (dt_last_ + dt);
   return exp_se3(dt * twist);
 }
 
@@ -68,7 +68,6 @@ void MotionModel::update(const Pose& step, double dt) {
   if (!(dt > 0.0))
     throw std::invalid_argument("MotionModel::update: the time between scans must be positive");
   const Vec6 twist = log_se3(step) / dt;
-  change_known_ = known_;
   if (known_) {
     const double change = (twist(2) - twist_(2)) / (0.5 * (dt_last_ + dt));
     const double limit = config_.max_angular_acceleration_deg * kDeg;

@@ -70,7 +70,10 @@ class MotionModel {
   /// The step just estimated over `dt` seconds becomes the velocity.
   void update(const Pose& step, double dt);
   /// Forgets the velocity (the next step is predicted as standing still, with no gate history).
-  void reset() { known_ = change_known_ = false; }
+  void reset() {
+    known_ = false;
+    yaw_rate_change_ = 0.0;
+  }
   [[nodiscard]] bool known() const { return known_; }
   /// The velocity [wx, wy, wz, vx, vy, vz] (rad/s, m/s) in the sensor frame.
   [[nodiscard]] const Vec6& twist() const { return twist_; }
@@ -83,8 +86,8 @@ class MotionModel {
   Vec6 twist_ = Vec6::Zero();
   double dt_last_ = 0.0;
   bool known_ = false;
-  double yaw_rate_change_ = 0.0;  ///< rad/s^2 about the sensor's z between the middles of the last two steps
-  bool change_known_ = false;
+  /// rad/s^2 about the sensor's z between the middles of the last two steps (0 before the second)
+  double yaw_rate_change_ = 0.0;
 };
 
 }  // namespace dloam
